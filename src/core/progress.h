@@ -1,0 +1,18 @@
+/// @file progress.h
+/// @brief Progress reporting from library code to the caller (the command draws it).
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace cavesim {
+
+/// Called by long operations: `phase` names the work, `done` of `total` units are finished.
+/// May be empty. Library code never prints.
+using ProgressFn = std::function<void(const std::string& phase, long done, long total)>;
+
+inline void reportProgress(const ProgressFn& fn, const std::string& phase, long done, long total) {
+    if (fn) fn(phase, done, total);
+}
+
+}  // namespace cavesim

@@ -1,0 +1,59 @@
+/// @file domain.h
+/// @brief The simulation state: dense voxel grids built from a scenario.
+///
+/// Dense arrays (see core/grid.h) rather than OpenVDB trees: the stages touch every voxel of a
+/// block that is mostly rock, so sparse storage buys nothing and costs indirection in hot loops.
+/// OpenVDB is used only at the edges (state.vdb output, meshing).
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "core/grid.h"
+#include "sim/scenario.h"
+
+namespace cavesim {
+
+/// Per-voxel flag bits.
+enum VoxelFlag : std::uint8_t {
+    kSource = 1u << 0,        ///< injects water (stage 2), seeds a zone (stage 1)
+    kSink = 1u << 1,          ///< drains water; pressure 0
+    kProtochannel = 1u << 2,  ///< traced by stage 1 or given as [[rock.channel]]
+    kChannel = 1u << 3,       ///< eroded past the channel threshold in stage 2 (the cave)
+    kObstacle = 1u << 4,      ///< inside a spherical obstacle
+    kFracture = 1u << 5,      ///< inside a bedding plane or fracture slab
+    kFeatureChannel = 1u << 6 ///< inside a [[rock.channel]] polyline
+};
+
+/// Explicit random engine, always passed by reference (never copied, never global).
+using Rng = std::mt19937_64;
+
+struct Domain {
+    Dims dims;
+    double voxelSize = 1.0;  ///< metres
+
+    Grid3<float> porosity;    ///< R in [0, 1]: water capacity
+    Grid3<float> porosity0;   ///< R at build time
+    Grid3<std::uint8_t> flags;
+    Grid3<std::int32_t> zone;  ///< stage-1 zone = source index, -1 where none
+    Grid3<float> pressure;     ///< stage 2
+    Grid3<float> water;        ///< stage 2 contents W in [0, R]
+    Grid3<float> flow;         ///< stage 2 flow f of the last iteration
+
+    /// Linear voxel indices of each source / sink, in scenario order.
+    std::vector<std::vector<std::size_t>> sourceVoxels;
+    std::vector<double> sourcePressure;  ///< relative pressure of each source
+    std::vector<std::vector<std::size_t>> sinkVoxels;
+};
+
+/// Builds the porosity grid and flags from a validated scenario. Deterministic for `rng`'s state.
+/// @throw InputError if the scenario describes something impossible (caught by validation first).
+Domain buildDomain(const Scenario& scenario, Rng& rng);
+
+/// World position (metres) of a voxel centre.
+inline std::array<double, 3> worldFromIndex(const Index3& p, double voxelSize) {
+    return {(p.i + 0.5) * voxelSize, (p.j + 0.5) * voxelSize, (p.k + 0.5) * voxelSize};
+}
+
+}  // namespace cavesim
