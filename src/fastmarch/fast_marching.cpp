@@ -1,0 +1,175 @@
+/// @file fast_marching.cpp
+/// @brief Fast marching: Godunov upwind update, labelled fronts, capped eikonal with incremental
+/// decrease-only updates.
+#include "fastmarch/fast_marching.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace cavesim::fastmarch {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Min-heap of (value, voxel); equal values pop in voxel order, so runs are reproducible.
+using HeapEntry = std::pair<double, std::size_t>;
+using MinHeap = std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<HeapEntry>>;
+
+/// Smallest value of the two neighbours along one axis; −x and +x (or −y/+y, −z/+z) are combined
+/// by std::min, which is symmetric, so mirrored inputs give mirrored results.
+template <typename Get>
+void axisMinima(const Dims& d, const Index3& p, const Get& get, double& ax, double& ay, double& az) {
+    ax = std::min(p.i > 0 ? get(d.index(p.i - 1, p.j, p.k)) : kInf,
+                  p.i + 1 < d.nx ? get(d.index(p.i + 1, p.j, p.k)) : kInf);
+    ay = std::min(p.j > 0 ? get(d.index(p.i, p.j - 1, p.k)) : kInf,
+                  p.j + 1 < d.ny ? get(d.index(p.i, p.j + 1, p.k)) : kInf);
+    az = std::min(p.k > 0 ? get(d.index(p.i, p.j, p.k - 1)) : kInf,
+                  p.k + 1 < d.nz ? get(d.index(p.i, p.j, p.k + 1)) : kInf);
+}
+
+/// Label-correcting sweep shared by `solve` and `decrease`: pops the smallest tentative value and
+/// re-evaluates its neighbours from the current values of all their neighbours. With heap order
+/// this is fast marching (each voxel settles once when values only fall); it also repairs a field
+/// whose slowness fell locally without touching the rest.
+std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
+                  Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched) {
+    std::size_t changes = 0;
+    const auto get = [&](std::size_t n) { return value[n]; };
+    while (!heap.empty()) {
+        const auto [v, q] = heap.top();
+        heap.pop();
+        if (v != value[q]) continue;  // stale entry
+        const Index3 p = d.coord(q);
+        for (const auto& o : faceNeighbours()) {
+            const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
+            if (!d.contains(i, j, k)) continue;
+            const std::size_t r = d.index(i, j, k);
+            if (seed[r] || value[r] <= v) continue;  // only larger values can be lowered by q
+            double ax, ay, az;
+            axisMinima(d, {i, j, k}, get, ax, ay, az);
+            const double u = std::min(cap, upwindUpdate(ax, ay, az, slowness[r]));
+            if (u < value[r]) {
+                value[r] = u;
+                heap.push({u, r});
+                if (touched && !(*touched)[r]) {
+                    (*touched)[r] = 1;
+                    ++changes;
+                }
+            }
+        }
+    }
+    return changes;
+}
+
+}  // namespace
+
+double upwindUpdate(double ax, double ay, double az, double f) {
+    double a[3] = {ax, ay, az};
+    std::sort(a, a + 3);
+    if (!(a[0] < kInf) || !(f < kInf)) return kInf;
+    // One-sided update first; add an axis while the solution stays above that axis's value.
+    double u = a[0] + f;
+    double sum = a[0], sumSq = a[0] * a[0];
+    for (int m = 2; m <= 3; ++m) {
+        if (!(u > a[m - 1])) break;
+        sum += a[m - 1];
+        sumSq += a[m - 1] * a[m - 1];
+        // m·u² − 2·sum·u + sumSq − f² = 0, larger root.
+        const double disc = sum * sum - m * (sumSq - f * f);
+        if (disc < 0) break;  // cannot happen when a[m-1] < u; kept for round-off safety
+        u = (sum + std::sqrt(disc)) / m;
+    }
+    return u;
+}
+
+void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const std::vector<Seed>& seeds, double cap) {
+    if (!(slowness.dims == dims)) throw std::invalid_argument("EikonalField::solve: slowness grid has other dims");
+    dims_ = dims;
+    cap_ = cap;
+    value_ = Grid3<double>(dims, cap);
+    seed_.assign(dims.count(), 0);
+    MinHeap heap;
+    for (const Seed& s : seeds) {
+        if (s.voxel >= dims.count()) throw std::invalid_argument("EikonalField::solve: seed outside the grid");
+        const double v = std::min(cap, s.value);
+        if (!seed_[s.voxel] || v < value_[s.voxel]) value_[s.voxel] = v;
+        seed_[s.voxel] = 1;
+    }
+    for (std::size_t n = 0; n < seed_.size(); ++n)
+        if (seed_[n]) heap.push({value_[n], n});
+    relax(dims_, slowness, seed_, cap_, value_, heap, nullptr);
+}
+
+std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed) {
+    MinHeap heap;
+    std::vector<std::uint8_t> touched(dims_.count(), 0);
+    std::size_t changes = 0;
+    const auto get = [&](std::size_t n) { return value_[n]; };
+    for (std::size_t q : changed) {
+        if (q >= value_.size() || seed_[q]) continue;
+        double ax, ay, az;
+        axisMinima(dims_, dims_.coord(q), get, ax, ay, az);
+        const double u = std::min(cap_, upwindUpdate(ax, ay, az, slowness[q]));
+        if (u < value_[q]) {
+            value_[q] = u;
+            heap.push({u, q});
+            if (!touched[q]) {
+                touched[q] = 1;
+                ++changes;
+            }
+        }
+    }
+    return changes + relax(dims_, slowness, seed_, cap_, value_, heap, &touched);
+}
+
+LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
+                              const std::vector<double>& labelSpeed) {
+    if (slowness && !(slowness->dims == dims))
+        throw std::invalid_argument("marchLabelled: slowness grid has other dims");
+    for (double s : labelSpeed)
+        if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("marchLabelled: label speeds must be > 0");
+    for (const Seed& s : seeds) {
+        if (s.voxel >= dims.count()) throw std::invalid_argument("marchLabelled: seed outside the grid");
+        if (s.label < 0 || std::size_t(s.label) >= labelSpeed.size())
+            throw std::invalid_argument("marchLabelled: seed label " + std::to_string(s.label) + " has no speed");
+    }
+    LabelledArrival out{Grid3<double>(dims, kInf), Grid3<std::int32_t>(dims, -1)};
+    // One front per label through the whole grid, then the earliest arrival wins (ties: lower label).
+    Grid3<double> time(dims);
+    std::vector<std::uint8_t> isSeed(dims.count());
+    Grid3<float> labelSlowness(dims);
+    for (std::size_t label = 0; label < labelSpeed.size(); ++label) {
+        std::fill(time.data.begin(), time.data.end(), kInf);
+        std::fill(isSeed.begin(), isSeed.end(), 0);
+        MinHeap heap;
+        for (const Seed& s : seeds) {
+            if (std::size_t(s.label) != label) continue;
+            time[s.voxel] = isSeed[s.voxel] ? std::min(time[s.voxel], s.value) : s.value;
+            isSeed[s.voxel] = 1;
+        }
+        bool any = false;
+        for (std::size_t n = 0; n < dims.count(); ++n)
+            if (isSeed[n]) {
+                heap.push({time[n], n});
+                any = true;
+            }
+        if (!any) continue;
+        const float inv = float(1.0 / labelSpeed[label]);
+        for (std::size_t n = 0; n < dims.count(); ++n) labelSlowness[n] = (slowness ? (*slowness)[n] : 1.0f) * inv;
+        relax(dims, labelSlowness, isSeed, kInf, time, heap, nullptr);
+        for (std::size_t n = 0; n < dims.count(); ++n)
+            if (time[n] < out.time[n]) {  // strict: on a tie the lower label, marched first, keeps the voxel
+                out.time[n] = time[n];
+                out.label[n] = std::int32_t(label);
+            }
+    }
+    return out;
+}
+
+}  // namespace cavesim::fastmarch

@@ -1,0 +1,132 @@
+#include "sim/domain.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "sim/noise.h"
+
+namespace cavesim {
+namespace {
+
+double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+
+/// Distance from p to the segment ab (index units).
+double segmentDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
+    const Vec3d ab = sub(b, a), ap = sub(p, a);
+    const double len2 = dot(ab, ab);
+    double t = len2 > 0 ? dot(ap, ab) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    const Vec3d q{a[0] + t * ab[0] - p[0], a[1] + t * ab[1] - p[1], a[2] + t * ab[2] - p[2]};
+    return std::sqrt(dot(q, q));
+}
+
+std::vector<std::size_t> boxVoxels(const Dims& d, const VoxelBox& b) {
+    std::vector<std::size_t> out;
+    for (int k = b.lo[2]; k <= b.hi[2]; ++k)
+        for (int j = b.lo[1]; j <= b.hi[1]; ++j)
+            for (int i = b.lo[0]; i <= b.hi[0]; ++i) out.push_back(d.index(i, j, k));
+    return out;
+}
+
+}  // namespace
+
+Domain buildDomain(const Scenario& s, Rng& rng) {
+    Domain dom;
+    dom.dims = Dims{s.size[0], s.size[1], s.size[2]};
+    dom.voxelSize = s.voxelSize;
+    const Dims& d = dom.dims;
+    dom.porosity = Grid3<float>(d, float(s.rockPorosity));
+    dom.flags = Grid3<std::uint8_t>(d, 0);
+    dom.zone = Grid3<std::int32_t>(d, -1);
+    dom.pressure = Grid3<float>(d, 0.f);
+    dom.water = Grid3<float>(d, 0.f);
+    dom.flow = Grid3<float>(d, 0.f);
+
+    // Noise: always drawn from the engine (so later draws do not depend on whether noise is on).
+    const GradientNoise noise(rng);
+    if (s.noise.amplitude > 0) {
+        const double inv = 1.0 / s.noise.scale;
+        for (int k = 0; k < d.nz; ++k)
+            for (int j = 0; j < d.ny; ++j)
+                for (int i = 0; i < d.nx; ++i) {
+                    const double n = noise.fractal(i * inv + 0.37, j * inv + 0.61, k * inv + 0.13, s.noise.octaves);
+                    dom.porosity.at(i, j, k) = float(s.rockPorosity + s.noise.amplitude * n);
+                }
+    }
+
+    for (const SphereObstacle& o : s.spheres) {
+        const int r = int(std::ceil(o.radius));
+        for (int k = std::max(0, int(o.center[2]) - r - 1); k <= std::min(d.nz - 1, int(o.center[2]) + r + 1); ++k)
+            for (int j = std::max(0, int(o.center[1]) - r - 1); j <= std::min(d.ny - 1, int(o.center[1]) + r + 1); ++j)
+                for (int i = std::max(0, int(o.center[0]) - r - 1); i <= std::min(d.nx - 1, int(o.center[0]) + r + 1); ++i) {
+                    const double dist = std::sqrt(dot(sub({double(i), double(j), double(k)}, o.center),
+                                                      sub({double(i), double(j), double(k)}, o.center)));
+                    if (dist >= o.radius) continue;
+                    // Porosity falls quadratically from the surrounding rock at the rim to the core value.
+                    const double t = dist / o.radius;
+                    float& R = dom.porosity.at(i, j, k);
+                    R = float(o.corePorosity + (R - o.corePorosity) * t * t);
+                    dom.flags.at(i, j, k) |= kObstacle;
+                }
+    }
+
+    for (const PlaneFeature& p : s.planes) {
+        const double nlen = std::sqrt(dot(p.normal, p.normal));
+        const Vec3d n{p.normal[0] / nlen, p.normal[1] / nlen, p.normal[2] / nlen};
+        for (int k = 0; k < d.nz; ++k)
+            for (int j = 0; j < d.ny; ++j)
+                for (int i = 0; i < d.nx; ++i) {
+                    const Vec3d rel = sub({double(i), double(j), double(k)}, p.point);
+                    const double h = dot(rel, n);
+                    if (std::abs(h) > 0.5 * p.thickness) continue;
+                    if (p.extent > 0) {
+                        const Vec3d inplane{rel[0] - h * n[0], rel[1] - h * n[1], rel[2] - h * n[2]};
+                        if (dot(inplane, inplane) > p.extent * p.extent) continue;
+                    }
+                    float& R = dom.porosity.at(i, j, k);
+                    R = std::max(R, float(p.porosity));
+                    dom.flags.at(i, j, k) |= kFracture;
+                }
+    }
+
+    for (const ChannelFeature& c : s.channels) {
+        // A polyline of at least the voxels it passes through (radius 0.5 catches the centre line).
+        const double rad = std::max(c.radius, 0.5);
+        for (std::size_t seg = 0; seg + 1 < c.points.size(); ++seg) {
+            const Vec3d& a = c.points[seg];
+            const Vec3d& b = c.points[seg + 1];
+            int lo[3], hi[3];
+            for (int ax = 0; ax < 3; ++ax) {
+                lo[ax] = std::max(0, int(std::floor(std::min(a[ax], b[ax]) - rad)));
+                hi[ax] = std::min((ax == 0 ? d.nx : ax == 1 ? d.ny : d.nz) - 1, int(std::ceil(std::max(a[ax], b[ax]) + rad)));
+            }
+            for (int k = lo[2]; k <= hi[2]; ++k)
+                for (int j = lo[1]; j <= hi[1]; ++j)
+                    for (int i = lo[0]; i <= hi[0]; ++i) {
+                        if (segmentDistance({double(i), double(j), double(k)}, a, b) > rad) continue;
+                        float& R = dom.porosity.at(i, j, k);
+                        R = std::max(R, float(c.porosity));
+                        dom.flags.at(i, j, k) |= kFeatureChannel;
+                        if (c.protochannel) dom.flags.at(i, j, k) |= kProtochannel;
+                    }
+        }
+    }
+
+    for (auto& R : dom.porosity.data) R = std::clamp(R, 0.f, 1.f);
+
+    for (const SourceSpec& src : s.sources) {
+        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
+        dom.sourcePressure.push_back(src.pressure);
+        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
+    }
+    for (const SinkSpec& snk : s.sinks) {
+        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
+        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
+    }
+    dom.porosity0 = dom.porosity;
+    return dom;
+}
+
+}  // namespace cavesim

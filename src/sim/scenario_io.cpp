@@ -1,0 +1,581 @@
+#include "sim/scenario_io.h"
+
+#include <charconv>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "core/error.h"
+#include "sim/default_scenario.h"
+
+namespace cavesim {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Shortest decimal text that reads back as the same double (0.3, not 0.29999999999999999).
+std::string shortest(double v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
+void describeInto(const toml::node& n, std::string& out) {
+    if (n.is_string()) {
+        out += '"' + n.as_string()->get() + '"';
+    } else if (n.is_floating_point()) {
+        out += shortest(n.as_floating_point()->get());
+    } else if (n.is_integer()) {
+        out += std::to_string(n.as_integer()->get());
+    } else if (n.is_boolean()) {
+        out += n.as_boolean()->get() ? "true" : "false";
+    } else if (n.is_array()) {
+        out += '[';
+        bool first = true;
+        for (const toml::node& e : *n.as_array()) {
+            if (!first) out += ", ";
+            first = false;
+            describeInto(e, out);
+        }
+        out += ']';
+    } else if (n.is_table()) {
+        out += "(a table)";
+    } else {
+        std::ostringstream os;
+        n.visit([&os](auto&& v) { os << v; });
+        out += os.str();
+    }
+}
+
+std::string describe(const toml::node& n) {
+    std::string s;
+    describeInto(n, s);
+    if (s.size() > 60) s = s.substr(0, 57) + "...";
+    return s;
+}
+
+/// Reads one TOML table against a fixed set of keys; everything it reports names file, line, key.
+class TableReader {
+public:
+    TableReader(const toml::table& table, std::string prefix, const std::string& file)
+        : table_(table), prefix_(std::move(prefix)), file_(file) {}
+
+    [[noreturn]] void fail(const std::string& key, const toml::node* node, const std::string& allowed) const {
+        std::ostringstream os;
+        const int line = node ? int(node->source().begin.line) : int(table_.source().begin.line);
+        os << file_;
+        if (line > 0) os << ":" << line;
+        os << ": key '" << qualified(key) << "'";
+        if (node) os << " = " << describe(*node);
+        os << ": " << allowed;
+        throw InputError(os.str());
+    }
+
+    std::string qualified(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+    const std::string& file() const { return file_; }
+
+    const toml::node* get(const std::string& key) {
+        seen_.insert(key);
+        return table_.get(key);
+    }
+
+    double number(const std::string& key, double def, double lo, double hi, bool loOpen = false,
+                  bool hiOpen = false) {
+        const toml::node* n = get(key);
+        if (!n) return def;
+        return toNumber(key, *n, lo, hi, loOpen, hiOpen);
+    }
+
+    double toNumber(const std::string& key, const toml::node& n, double lo, double hi, bool loOpen,
+                    bool hiOpen) const {
+        double v = 0;
+        if (auto i = n.as_integer()) v = double(i->get());
+        else if (auto f = n.as_floating_point()) v = f->get();
+        else fail(key, &n, "must be a number " + range(lo, hi, loOpen, hiOpen));
+        const bool ok = std::isfinite(v) && (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
+        if (!ok) fail(key, &n, "must be a number " + range(lo, hi, loOpen, hiOpen));
+        return v;
+    }
+
+    long integer(const std::string& key, long def, long lo, long hi) {
+        const toml::node* n = get(key);
+        if (!n) return def;
+        return toInteger(key, *n, lo, hi);
+    }
+
+    long toInteger(const std::string& key, const toml::node& n, long lo, long hi) const {
+        auto i = n.as_integer();
+        const std::string allowed = "must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        if (!i) fail(key, &n, allowed);
+        const long v = long(i->get());
+        if (v < lo || v > hi) fail(key, &n, allowed);
+        return v;
+    }
+
+    bool boolean(const std::string& key, bool def) {
+        const toml::node* n = get(key);
+        if (!n) return def;
+        auto b = n->as_boolean();
+        if (!b) fail(key, n, "must be true or false");
+        return b->get();
+    }
+
+    std::string choice(const std::string& key, const std::string& def, const std::vector<std::string>& allowed) {
+        const toml::node* n = get(key);
+        if (!n) return def;
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
+        auto s = n->as_string();
+        if (!s) fail(key, n, "must be one of " + list);
+        if (std::find(allowed.begin(), allowed.end(), s->get()) == allowed.end()) fail(key, n, "must be one of " + list);
+        return s->get();
+    }
+
+    Vec3d vec3(const std::string& key, const Vec3d& def, double lo, double hi, bool required = false) {
+        const toml::node* n = get(key);
+        if (!n) {
+            if (required) fail(key, nullptr, "is required: an array of 3 numbers");
+            return def;
+        }
+        return toVec3(key, *n, lo, hi);
+    }
+
+    Vec3d toVec3(const std::string& key, const toml::node& n, double lo, double hi) const {
+        auto a = n.as_array();
+        const std::string allowed = "must be an array of 3 numbers, each " + range(lo, hi, false, false);
+        if (!a || a->size() != 3) fail(key, &n, allowed);
+        Vec3d v{};
+        for (std::size_t c = 0; c < 3; ++c) {
+            const toml::node& e = *a->get(c);
+            if (e.as_integer()) v[c] = double(e.as_integer()->get());
+            else if (e.as_floating_point()) v[c] = e.as_floating_point()->get();
+            else fail(key, &n, allowed);
+            if (!std::isfinite(v[c]) || v[c] < lo || v[c] > hi) fail(key, &n, allowed);
+        }
+        return v;
+    }
+
+    std::array<int, 3> ivec3(const std::string& key, const toml::node& n, long lo, long hi) const {
+        auto a = n.as_array();
+        const std::string allowed =
+            "must be an array of 3 whole numbers in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        if (!a || a->size() != 3) fail(key, &n, allowed);
+        std::array<int, 3> v{};
+        for (std::size_t c = 0; c < 3; ++c) {
+            auto i = a->get(c)->as_integer();
+            if (!i || i->get() < lo || i->get() > hi) fail(key, &n, allowed);
+            v[c] = int(i->get());
+        }
+        return v;
+    }
+
+    const toml::table* subtable(const std::string& key) {
+        const toml::node* n = get(key);
+        if (!n) return nullptr;
+        if (!n->is_table()) fail(key, n, "must be a table");
+        return n->as_table();
+    }
+
+    /// An array of tables (`[[key]]`); empty when absent.
+    std::vector<const toml::table*> tableArray(const std::string& key) {
+        std::vector<const toml::table*> out;
+        const toml::node* n = get(key);
+        if (!n) return out;
+        auto a = n->as_array();
+        if (!a) fail(key, n, "must be an array of tables, written [[" + qualified(key) + "]]");
+        for (const toml::node& e : *a) {
+            if (!e.is_table()) fail(key, &e, "every entry must be a table, written [[" + qualified(key) + "]]");
+            out.push_back(e.as_table());
+        }
+        return out;
+    }
+
+    /// Rejects every key that was not asked for.
+    void finish(const std::vector<std::string>& known) const {
+        for (auto&& [k, v] : table_) {
+            const std::string key(k.str());
+            if (seen_.count(key)) continue;
+            std::string list;
+            for (const auto& a : known) list += (list.empty() ? "" : ", ") + a;
+            std::ostringstream os;
+            os << file_;
+            if (k.source().begin.line > 0) os << ":" << k.source().begin.line;
+            os << ": unknown key '" << qualified(key) << "' = " << describe(v) << ": allowed keys here are "
+               << list;
+            throw InputError(os.str());
+        }
+    }
+
+private:
+    static std::string fmt(double v) {
+        if (v == kInf) return "inf";
+        std::ostringstream os;
+        os << v;
+        return os.str();
+    }
+    static std::string range(double lo, double hi, bool loOpen, bool hiOpen) {
+        return std::string("in ") + (loOpen ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hiOpen ? ")" : "]");
+    }
+
+    const toml::table& table_;
+    std::string prefix_;
+    const std::string& file_;
+    std::set<std::string> seen_;
+};
+
+VoxelBox readBox(TableReader& r, const std::array<int, 3>& size, const std::string& what) {
+    const toml::node* at = r.get("at");
+    const toml::node* box = r.get("box");
+    if (at && box) r.fail("box", box, "give either 'at' or 'box', not both");
+    if (!at && !box) r.fail("at", nullptr, "a " + what + " needs 'at = [x, y, z]' or 'box = [[x0, y0, z0], [x1, y1, z1]]'");
+    const long big = 1 << 20;
+    VoxelBox b;
+    if (at) {
+        b.lo = r.ivec3("at", *at, -big, big);
+        b.hi = b.lo;
+    } else {
+        auto a = box->as_array();
+        if (!a || a->size() != 2) r.fail("box", box, "must be [[x0, y0, z0], [x1, y1, z1]] (inclusive voxel indices)");
+        b.lo = r.ivec3("box", *a->get(0), -big, big);
+        b.hi = r.ivec3("box", *a->get(1), -big, big);
+    }
+    for (int c = 0; c < 3; ++c) {
+        const toml::node* n = at ? at : box;
+        const std::string key = at ? "at" : "box";
+        if (b.lo[c] > b.hi[c]) r.fail(key, n, "box corners must satisfy x0 <= x1, y0 <= y1, z0 <= z1");
+        if (b.lo[c] < 0 || b.hi[c] >= size[c]) {
+            r.fail(key, n,
+                   "the " + what + " must lie inside the domain: indices 0.." + std::to_string(size[0] - 1) + ", 0.." +
+                       std::to_string(size[1] - 1) + ", 0.." + std::to_string(size[2] - 1));
+        }
+    }
+    return b;
+}
+
+Scenario parseTable(const toml::table& root, const std::string& file) {
+    Scenario s;
+    s.path = file;
+    TableReader top(root, "", file);
+    if (const toml::node* n = top.get("name")) {
+        auto str = n->as_string();
+        const std::string allowed = "must be a string of 1-64 letters, digits, '-' or '_'";
+        if (!str || str->get().empty() || str->get().size() > 64) top.fail("name", n, allowed);
+        for (char c : str->get())
+            if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_')) top.fail("name", n, allowed);
+        s.name = str->get();
+    }
+    s.seed = std::uint64_t(top.integer("seed", 1, 0, std::numeric_limits<long>::max()));
+
+    if (const toml::table* t = top.subtable("domain")) {
+        TableReader r(*t, "domain", file);
+        if (const toml::node* n = r.get("size")) s.size = r.ivec3("size", *n, 1, 1024);
+        s.voxelSize = r.number("voxel_size", 1.0, 0, 1e4, true);
+        r.finish({"size", "voxel_size"});
+    }
+    const double cells = double(s.size[0]) * s.size[1] * s.size[2];
+    if (cells > 64e6) {
+        top.fail("domain", root.get("domain"), "domain.size gives " + std::to_string(long(cells)) +
+                                                   " voxels; at most 64,000,000 are allowed");
+    }
+    const double ext = std::max({s.size[0], s.size[1], s.size[2]}) * 4.0;
+
+    if (const toml::table* t = top.subtable("rock")) {
+        TableReader r(*t, "rock", file);
+        s.rockPorosity = r.number("porosity", s.rockPorosity, 0, 1);
+        if (const toml::table* nt = r.subtable("noise")) {
+            TableReader nr(*nt, "rock.noise", file);
+            s.noise.amplitude = nr.number("amplitude", 0.0, 0, 1);
+            s.noise.scale = nr.number("scale", 8.0, 0, 1e6, true);
+            s.noise.octaves = int(nr.integer("octaves", 3, 1, 8));
+            nr.finish({"amplitude", "scale", "octaves"});
+        }
+        for (const toml::table* st : r.tableArray("sphere")) {
+            TableReader sr(*st, "rock.sphere", file);
+            SphereObstacle o;
+            o.center = sr.vec3("center", o.center, -ext, ext, true);
+            o.radius = sr.number("radius", o.radius, 0, 1e6, true);
+            o.corePorosity = sr.number("core_porosity", o.corePorosity, 0, 1);
+            sr.finish({"center", "radius", "core_porosity"});
+            s.spheres.push_back(o);
+        }
+        for (const toml::table* pt : r.tableArray("plane")) {
+            TableReader pr(*pt, "rock.plane", file);
+            PlaneFeature p;
+            p.point = pr.vec3("point", p.point, -ext, ext, true);
+            p.normal = pr.vec3("normal", p.normal, -1e6, 1e6);
+            if (std::hypot(p.normal[0], p.normal[1], p.normal[2]) < 1e-9) pr.fail("normal", pt->get("normal"), "must not be zero");
+            p.thickness = pr.number("thickness", p.thickness, 0, 1e6, true);
+            p.porosity = pr.number("porosity", p.porosity, 0, 1);
+            p.extent = pr.number("extent", 0.0, 0, 1e6);
+            p.kind = pr.choice("kind", p.kind, {"bedding", "fracture"});
+            pr.finish({"point", "normal", "thickness", "porosity", "extent", "kind"});
+            s.planes.push_back(p);
+        }
+        for (const toml::table* ct : r.tableArray("channel")) {
+            TableReader cr(*ct, "rock.channel", file);
+            ChannelFeature c;
+            const toml::node* pts = cr.get("points");
+            if (!pts) cr.fail("points", nullptr, "is required: an array of at least 2 points [x, y, z]");
+            auto a = pts->as_array();
+            if (!a || a->size() < 2) cr.fail("points", pts, "must be an array of at least 2 points [x, y, z]");
+            for (const toml::node& e : *a) c.points.push_back(cr.toVec3("points", e, -ext, ext));
+            c.radius = cr.number("radius", c.radius, 0, 1e6);
+            c.porosity = cr.number("porosity", c.porosity, 0, 1);
+            c.protochannel = cr.boolean("protochannel", c.protochannel);
+            cr.finish({"points", "radius", "porosity", "protochannel"});
+            s.channels.push_back(c);
+        }
+        r.finish({"porosity", "noise", "sphere", "plane", "channel"});
+    }
+
+    for (const toml::table* t : top.tableArray("source")) {
+        TableReader r(*t, "source", file);
+        SourceSpec src;
+        src.line = int(t->source().begin.line);
+        src.box = readBox(r, s.size, "source");
+        src.pressure = r.number("pressure", 1.0, 0, 1e6, true);
+        r.finish({"at", "box", "pressure"});
+        s.sources.push_back(src);
+    }
+    for (const toml::table* t : top.tableArray("sink")) {
+        TableReader r(*t, "sink", file);
+        SinkSpec snk;
+        snk.line = int(t->source().begin.line);
+        snk.box = readBox(r, s.size, "sink");
+        r.finish({"at", "box"});
+        s.sinks.push_back(snk);
+    }
+
+    if (const toml::table* t = top.subtable("stage1")) {
+        TableReader r(*t, "stage1", file);
+        Stage1Settings& g = s.stage1;
+        g.enabled = r.boolean("enabled", g.enabled);
+        g.protosinks = r.choice("protosinks", g.protosinks, {"boundary", "clustered"});
+        g.clusters = int(r.integer("clusters", g.clusters, 1, 64));
+        g.clusterRadius = r.number("cluster_radius", g.clusterRadius, 0, 1e6);
+        if (const toml::node* n = r.get("aim")) {
+            auto a = n->as_array();
+            if (!a) r.fail("aim", n, "must be an array of points [x, y, z]");
+            for (const toml::node& e : *a) g.aim.push_back(r.toVec3("aim", e, -ext, ext));
+        }
+        g.permeability = r.choice("permeability", g.permeability, {"uniform", "porosity"});
+        g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
+        g.capacityExponent = r.number("capacity_exponent", g.capacityExponent, 0, 8, true);
+        g.maxGraphVoxels = r.integer("max_graph_voxels", g.maxGraphVoxels, 1, 1000000000L);
+        r.finish({"enabled", "protosinks", "clusters", "cluster_radius", "aim", "permeability",
+                  "protochannel_porosity", "capacity_exponent", "max_graph_voxels"});
+    }
+    if (const toml::table* t = top.subtable("stage2")) {
+        TableReader r(*t, "stage2", file);
+        Stage2Settings& g = s.stage2;
+        g.enabled = r.boolean("enabled", g.enabled);
+        g.iterations = int(r.integer("iterations", g.iterations, 0, 1000000));
+        g.pRate = r.number("p_rate", g.pRate, 0, 1e6, true);
+        g.pRateChannel = r.number("p_rate_channel", g.pRateChannel, 0, 1e6, true);
+        if (g.pRateChannel > g.pRate) {
+            r.fail("p_rate_channel", t->get("p_rate_channel"),
+                   "must not exceed p_rate (" + std::to_string(g.pRate) + "): channels resist flow less than rock");
+        }
+        g.w0 = r.number("w0", g.w0, 0, 10);
+        g.wa = r.number("wa", g.wa, 0, 100);
+        g.m = r.number("m", g.m, 0, 4, true);
+        g.pressureScale = r.number("pressure_scale", g.pressureScale, 0, 1e9);
+        g.channelThreshold = r.number("channel_threshold", g.channelThreshold, 0, 1, true);
+        g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
+        g.sourcePorosity = r.number("source_porosity", g.sourcePorosity, 0, 1, true);
+        g.weight = r.choice("weight", g.weight, {"proportional", "uniform"});
+        if (const toml::node* n = r.get("snapshots")) {
+            auto a = n->as_array();
+            if (!a) r.fail("snapshots", n, "must be an array of iteration numbers");
+            for (const toml::node& e : *a) g.snapshots.push_back(int(r.toInteger("snapshots", e, 0, 1000000)));
+        }
+        r.finish({"enabled", "iterations", "p_rate", "p_rate_channel", "w0", "wa", "m", "pressure_scale",
+                  "channel_threshold", "protochannel_porosity", "source_porosity", "weight", "snapshots"});
+    }
+    if (const toml::table* t = top.subtable("output")) {
+        TableReader r(*t, "output", file);
+        OutputSettings& o = s.output;
+        o.meshStyle = r.choice("mesh_style", o.meshStyle, {"smooth", "voxel"});
+        o.imageWidth = int(r.integer("image_width", o.imageWidth, 256, 8192));
+        o.images = r.boolean("images", o.images);
+        o.mesh = r.boolean("mesh", o.mesh);
+        r.finish({"mesh_style", "image_width", "images", "mesh"});
+    }
+    top.finish({"name", "seed", "domain", "rock", "source", "sink", "stage1", "stage2", "output"});
+    validateScenario(s);
+    return s;
+}
+
+bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
+    for (int c = 0; c < 3; ++c)
+        if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
+    return true;
+}
+
+std::string where(const Scenario& s, int line) {
+    return s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
+}
+
+}  // namespace
+
+void validateScenario(const Scenario& s) {
+    for (std::size_t i = 0; i < s.sources.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            if (s.sources[i].box.lo[c] < 0 || s.sources[i].box.hi[c] >= s.size[c])
+                throw InputError(where(s, s.sources[i].line) + ": [[source]] " + std::to_string(i + 1) +
+                                 " lies outside the domain");
+        }
+        for (std::size_t j = 0; j < s.sinks.size(); ++j) {
+            if (boxesOverlap(s.sources[i].box, s.sinks[j].box)) {
+                throw InputError(where(s, s.sinks[j].line) + ": key 'sink' (entry " + std::to_string(j + 1) +
+                                 ") overlaps [[source]] entry " + std::to_string(i + 1) + " (line " +
+                                 std::to_string(s.sources[i].line) + "): a voxel cannot be both source and sink");
+            }
+        }
+    }
+    for (std::size_t j = 0; j < s.sinks.size(); ++j)
+        for (int c = 0; c < 3; ++c)
+            if (s.sinks[j].box.lo[c] < 0 || s.sinks[j].box.hi[c] >= s.size[c])
+                throw InputError(where(s, s.sinks[j].line) + ": [[sink]] " + std::to_string(j + 1) +
+                                 " lies outside the domain");
+    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty()) {
+        throw InputError(s.path + ": key 'source': at least one [[source]] is needed when a stage is enabled");
+    }
+    if (s.stage2.enabled && s.sinks.empty()) {
+        throw InputError(s.path + ": key 'stage2.enabled' = true: stage 2 needs at least one [[sink]] "
+                                  "(add a [[sink]] or set [stage2] enabled = false)");
+    }
+}
+
+Scenario parseScenarioString(std::string_view text, const std::string& sourceName) {
+    toml::table root;
+    try {
+        root = toml::parse(text, sourceName);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream os;
+        os << sourceName << ":" << e.source().begin.line << ": malformed TOML: " << e.description();
+        throw InputError(os.str());
+    }
+    return parseTable(root, sourceName);
+}
+
+Scenario parseScenarioFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open the scenario file (missing or unreadable)");
+    std::ostringstream buf;
+    buf << in.rdbuf();
+    return parseScenarioString(buf.str(), path);
+}
+
+Scenario defaultScenario() { return parseScenarioString(kDefaultScenarioToml, "<built-in fig10>"); }
+
+namespace {
+
+toml::array arr3(const Vec3d& v) { return toml::array{v[0], v[1], v[2]}; }
+toml::array iarr3(const std::array<int, 3>& v) { return toml::array{v[0], v[1], v[2]}; }
+
+toml::table boxTable(const VoxelBox& b) {
+    toml::table t;
+    if (b.lo == b.hi) t.insert("at", iarr3(b.lo));
+    else t.insert("box", toml::array{iarr3(b.lo), iarr3(b.hi)});
+    return t;
+}
+
+}  // namespace
+
+std::string scenarioToToml(const Scenario& s) {
+    toml::table root;
+    root.insert("name", s.name);
+    root.insert("seed", static_cast<std::int64_t>(s.seed));
+    root.insert("domain", toml::table{{"size", iarr3(s.size)}, {"voxel_size", s.voxelSize}});
+
+    toml::table rock{{"porosity", s.rockPorosity},
+                     {"noise", toml::table{{"amplitude", s.noise.amplitude},
+                                           {"scale", s.noise.scale},
+                                           {"octaves", s.noise.octaves}}}};
+    if (!s.spheres.empty()) {
+        toml::array a;
+        for (const auto& o : s.spheres)
+            a.push_back(toml::table{{"center", arr3(o.center)}, {"radius", o.radius}, {"core_porosity", o.corePorosity}});
+        rock.insert("sphere", a);
+    }
+    if (!s.planes.empty()) {
+        toml::array a;
+        for (const auto& p : s.planes)
+            a.push_back(toml::table{{"point", arr3(p.point)},
+                                    {"normal", arr3(p.normal)},
+                                    {"thickness", p.thickness},
+                                    {"porosity", p.porosity},
+                                    {"extent", p.extent},
+                                    {"kind", p.kind}});
+        rock.insert("plane", a);
+    }
+    if (!s.channels.empty()) {
+        toml::array a;
+        for (const auto& c : s.channels) {
+            toml::array pts;
+            for (const auto& p : c.points) pts.push_back(arr3(p));
+            a.push_back(toml::table{{"points", pts},
+                                    {"radius", c.radius},
+                                    {"porosity", c.porosity},
+                                    {"protochannel", c.protochannel}});
+        }
+        rock.insert("channel", a);
+    }
+    root.insert("rock", rock);
+
+    toml::array sources;
+    for (const auto& src : s.sources) {
+        toml::table t = boxTable(src.box);
+        t.insert("pressure", src.pressure);
+        sources.push_back(t);
+    }
+    if (!sources.empty()) root.insert("source", sources);
+    toml::array sinks;
+    for (const auto& snk : s.sinks) sinks.push_back(boxTable(snk.box));
+    if (!sinks.empty()) root.insert("sink", sinks);
+
+    const Stage1Settings& g1 = s.stage1;
+    toml::array aim;
+    for (const auto& p : g1.aim) aim.push_back(arr3(p));
+    root.insert("stage1", toml::table{{"enabled", g1.enabled},
+                                      {"protosinks", g1.protosinks},
+                                      {"clusters", g1.clusters},
+                                      {"cluster_radius", g1.clusterRadius},
+                                      {"aim", aim},
+                                      {"permeability", g1.permeability},
+                                      {"protochannel_porosity", g1.protochannelPorosity},
+                                      {"capacity_exponent", g1.capacityExponent},
+                                      {"max_graph_voxels", static_cast<std::int64_t>(g1.maxGraphVoxels)}});
+    const Stage2Settings& g2 = s.stage2;
+    toml::array snaps;
+    for (int it : g2.snapshots) snaps.push_back(it);
+    root.insert("stage2", toml::table{{"enabled", g2.enabled},
+                                      {"iterations", g2.iterations},
+                                      {"p_rate", g2.pRate},
+                                      {"p_rate_channel", g2.pRateChannel},
+                                      {"w0", g2.w0},
+                                      {"wa", g2.wa},
+                                      {"m", g2.m},
+                                      {"pressure_scale", g2.pressureScale},
+                                      {"channel_threshold", g2.channelThreshold},
+                                      {"protochannel_porosity", g2.protochannelPorosity},
+                                      {"source_porosity", g2.sourcePorosity},
+                                      {"weight", g2.weight},
+                                      {"snapshots", snaps}});
+    root.insert("output", toml::table{{"mesh_style", s.output.meshStyle},
+                                      {"image_width", s.output.imageWidth},
+                                      {"images", s.output.images},
+                                      {"mesh", s.output.mesh}});
+    std::ostringstream os;
+    os << "# Effective scenario: every key with its value, defaults filled in.\n" << root << "\n";
+    return os.str();
+}
+
+}  // namespace cavesim

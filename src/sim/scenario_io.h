@@ -1,0 +1,34 @@
+/// @file scenario_io.h
+/// @brief Reading and writing scenario files (TOML). The format: docs/scenario-format.md.
+///
+/// Parsing is strict: an unknown or misspelt key, a wrong type, an out-of-range value, a source
+/// or sink outside the domain, a source overlapping a sink or a stage 2 without sinks is an
+/// `InputError` whose message names the file, the line, the key, the value and what is allowed.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "sim/scenario.h"
+
+namespace cavesim {
+
+/// Parses and validates a scenario file.
+/// @throw InputError on a missing file, malformed TOML or any invalid content
+Scenario parseScenarioFile(const std::string& path);
+
+/// Parses and validates scenario text; `sourceName` stands for the file name in messages.
+Scenario parseScenarioString(std::string_view text, const std::string& sourceName);
+
+/// Checks the relations between fields (sources inside the domain, no overlap with sinks, …).
+/// Called by the parsers; callers that change a scenario afterwards (e.g. `--seed`) may call it again.
+/// @throw InputError naming the offending entry
+void validateScenario(const Scenario& scenario);
+
+/// The effective scenario as TOML, every default filled in; parses back to an equal scenario.
+std::string scenarioToToml(const Scenario& scenario);
+
+/// The built-in default scenario (the Figure 10 scenario, scenarios/fig10.toml).
+Scenario defaultScenario();
+
+}  // namespace cavesim

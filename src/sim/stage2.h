@@ -1,0 +1,85 @@
+/// @file stage2.h
+/// @brief Stage 2 of Pytel & Mann (JCGT 2015, §3.2, §5, Listing 1, Eq. 1–2): channel growth and linkage.
+///
+/// One iteration:
+///  1. **Pressure front** (the "avalanche"): sinks hold P = 0; pressure rises by at most
+///     `p_rate` per voxel of rock and `p_rate_channel` per voxel of channel, capped at the source
+///     pressure. Solved by fast marching from the sinks; afterwards only decreases are propagated
+///     from voxels whose rate fell (erosion only lowers rates, so pressure only drops).
+///  2. **Water transport** (Listing 1, 26 neighbours): each voxel offers water to lower-pressure
+///     neighbours with free capacity, a share weight(ΔP)·(capacity − contents) each, never more
+///     than it holds. Made order-free and deterministic as a two-phase Jacobi step: all offers are
+///     computed from the state at the start of the iteration; a receiver offered more than its free
+///     capacity accepts the same fraction of every offer. Sources refill, sinks drain; water is
+///     conserved to round-off (checked every iteration).
+///  3. **Flow blending** (Eq. 2): each voxel passes its through-flow f_c, split equally, to its
+///     higher-pressure neighbours (f_a); f = w_a·f_a + f_c.
+///  4. **Erosion** (Eq. 1): R += min(w_0·f^m, 1 − R); capacity follows R.
+///  5. **Bookkeeping**: a voxel eroded to `channel_threshold` becomes channel (and takes the
+///     channel pressure rate); breakthrough = the first iteration a channel joins a source to a sink.
+///
+/// Every sum over neighbours pairs the −x and +x neighbour first, so an x-mirrored scenario gives
+/// an x-mirrored result bit for bit; every voxel's update reads only the previous state, so the
+/// result is the same for any thread count.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "core/progress.h"
+#include "sim/domain.h"
+#include "sim/scenario.h"
+
+namespace cavesim {
+
+/// Totals of one stage-2 iteration. Water and volume in voxel units (porosity × voxels).
+struct Stage2Record {
+    int iteration = 0;
+    double injected = 0;        ///< water added at sources
+    double drained = 0;         ///< water removed at sinks
+    double stored = 0;          ///< water in the domain after the iteration
+    double flow = 0;            ///< Σ f_c: water moved this iteration
+    double eroded = 0;          ///< Σ ΔR this iteration
+    long channelVoxels = 0;     ///< voxels flagged channel after the iteration
+    long pressureUpdates = 0;   ///< voxels whose pressure changed this iteration
+    int sourcesConnected = 0;   ///< sources joined to a sink through channel voxels
+    double balanceError = 0;    ///< |Δstored − (injected − drained)| this iteration
+};
+
+struct Stage2Result {
+    int iterations = 0;
+    std::optional<int> breakthroughIteration;  ///< first iteration with a source joined to a sink
+    std::vector<std::optional<int>> sourceConnectedIteration;  ///< per source, scenario order
+    double waterBalanceRelError = 0;  ///< |stored_end − stored_0 − (injected − drained)| / injected
+    double totalInjected = 0, totalDrained = 0;
+    double pressureCap = 0;           ///< the source pressure used as cap
+    std::vector<Stage2Record> history;
+    double seconds = 0;
+    double pressureSeconds = 0, transportSeconds = 0, erosionSeconds = 0;
+};
+
+/// Called after the iterations listed in `[stage2] snapshots` (and never otherwise).
+using SnapshotFn = std::function<void(int iteration, const Domain& domain)>;
+
+/// The interim step between the stages (paper §4, DESIGN §2): resets porosity to its initial
+/// values (dropping stage 1's display erosion), raises protochannel voxels to
+/// `stage2.protochannel_porosity`, opens sources and sinks (porosity 1: they are the inlets and
+/// outlets) and clears water, flow and channel flags. Protochannel voxels keep their flag and so
+/// the channel pressure rate. Also used for stage-2-only runs, whose protochannels come from
+/// `[[rock.channel]]`.
+void prepareStage2(Domain& domain, const Scenario& scenario);
+
+/// The stage-2 pressure cap: max source pressure × pressure_scale (auto when 0, see scenario.h).
+double stage2PressureCap(const Scenario& scenario);
+
+/// Runs the stage-2 iterations on a prepared domain.
+/// @throw RuntimeError if water conservation or finiteness is violated (a bug, never user input)
+Stage2Result runStage2(Domain& domain, const Scenario& scenario, const ProgressFn& progress = {},
+                       const SnapshotFn& snapshot = {});
+
+/// Recomputes the pressure of the current domain from scratch (used by tests and by the
+/// incremental-update check): same rule as inside runStage2.
+Grid3<double> solvePressureFull(const Domain& domain, const Scenario& scenario);
+
+}  // namespace cavesim

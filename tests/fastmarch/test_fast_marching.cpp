@@ -1,0 +1,169 @@
+// Fast marching against exact answers: distance from a point and a plane, bisector and
+// Apollonius boundaries of labelled fronts, caps, incremental updates, mirror symmetry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "fastmarch/fast_marching.h"
+
+namespace cavesim::fastmarch {
+namespace {
+
+Grid3<float> ones(const Dims& d) { return Grid3<float>(d, 1.0f); }
+
+TEST(UpwindUpdate, OneTwoThreeAxes) {
+    const double inf = std::numeric_limits<double>::infinity();
+    EXPECT_DOUBLE_EQ(upwindUpdate(0, inf, inf, 1), 1.0);
+    // Two equal neighbours at 0: u = 1/sqrt(2).
+    EXPECT_NEAR(upwindUpdate(0, 0, inf, 1), 1.0 / std::sqrt(2.0), 1e-15);
+    EXPECT_NEAR(upwindUpdate(0, 0, 0, 1), 1.0 / std::sqrt(3.0), 1e-15);
+    // A far neighbour is ignored: a1 >= a0 + f.
+    EXPECT_DOUBLE_EQ(upwindUpdate(0, 5, inf, 1), 1.0);
+    EXPECT_EQ(upwindUpdate(inf, inf, inf, 1), inf);
+}
+
+TEST(Eikonal, PlaneDistanceIsExact) {
+    const Dims d{20, 7, 9};
+    std::vector<Seed> seeds;
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j) seeds.push_back({d.index(0, j, k), 0.0, 0});
+    EikonalField f;
+    f.solve(d, ones(d), seeds, 1e9);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) EXPECT_NEAR(f.value().at(i, j, k), double(i), 1e-12);
+}
+
+TEST(Eikonal, PointDistanceFirstOrder) {
+    const Dims d{41, 41, 41};
+    const Index3 c{20, 20, 20};
+    EikonalField f;
+    f.solve(d, ones(d), {{d.index(c), 0.0, 0}}, 1e9);
+    double maxRelNear = 0, maxRel = 0;  // 5 <= r < 10, and r >= 15
+    for (std::size_t n = 0; n < d.count(); ++n) {
+        const Index3 p = d.coord(n);
+        const double r = std::sqrt(double((p.i - c.i) * (p.i - c.i) + (p.j - c.j) * (p.j - c.j) +
+                                          (p.k - c.k) * (p.k - c.k)));
+        if (r < 5) continue;
+        const double t = f.value()[n];
+        EXPECT_GE(t, r - 1e-9);  // the first-order scheme overestimates the distance
+        if (r < 10) maxRelNear = std::max(maxRelNear, (t - r) / r);
+        if (r >= 15) maxRel = std::max(maxRel, (t - r) / r);
+    }
+    // First-order error of the 6-neighbour scheme from a point: largest off the axes and near the
+    // point, shrinking with distance.
+    EXPECT_LT(maxRel, 0.15);
+    EXPECT_LT(maxRel, maxRelNear);
+}
+
+TEST(Eikonal, SlownessScalesAndCapBinds) {
+    const Dims d{30, 1, 1};
+    Grid3<float> s(d, 0.5f);
+    EikonalField f;
+    f.solve(d, s, {{0, 0.0, 0}}, 10.0);
+    for (int i = 0; i < 30; ++i) EXPECT_NEAR(f.value().at(i, 0, 0), std::min(10.0, 0.5 * i), 1e-12);
+}
+
+TEST(Eikonal, IncrementalDecreaseEqualsFullSolve) {
+    const Dims d{24, 18, 10};
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<float> u(0.2f, 2.0f);
+    Grid3<float> s(d);
+    for (auto& x : s.data) x = u(rng);
+    const std::vector<Seed> seeds{{d.index(23, 9, 0), 0.0, 0}, {d.index(23, 10, 0), 0.0, 0}};
+    EikonalField inc;
+    inc.solve(d, s, seeds, 40.0);
+    for (int round = 0; round < 30; ++round) {
+        std::vector<std::size_t> changed;
+        std::uniform_int_distribution<std::size_t> pick(0, d.count() - 1);
+        for (int c = 0; c < 25; ++c) {
+            const std::size_t q = pick(rng);
+            s[q] *= 0.1f;
+            changed.push_back(q);
+        }
+        const Grid3<double> before = inc.value();
+        inc.decrease(s, changed);
+        EikonalField full;
+        full.solve(d, s, seeds, 40.0);
+        for (std::size_t n = 0; n < d.count(); ++n) {
+            ASSERT_NEAR(inc.value()[n], full.value()[n], 1e-9) << "round " << round << " voxel " << n;
+            ASSERT_LE(inc.value()[n], before[n]);  // only decreases
+        }
+    }
+}
+
+TEST(Eikonal, MirrorSymmetricBitwise) {
+    const Dims d{17, 5, 9};
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<float> u(0.3f, 1.7f);
+    Grid3<float> s(d);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i <= d.nx / 2; ++i) s.at(i, j, k) = s.at(d.nx - 1 - i, j, k) = u(rng);
+    EikonalField f;
+    f.solve(d, s, {{d.index(8, 2, 0), 0.0, 0}}, 1e9);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) ASSERT_EQ(f.value().at(i, j, k), f.value().at(d.nx - 1 - i, j, k));
+}
+
+TEST(Labelled, EqualSpeedsSplitOnTheBisector) {
+    const Dims d{40, 30, 1};
+    const auto out = marchLabelled(d, nullptr, {{d.index(10, 15, 0), 0, 0}, {d.index(29, 15, 0), 0, 1}}, {1.0, 1.0});
+    long count[2] = {0, 0};
+    for (int j = 0; j < d.ny; ++j)
+        for (int i = 0; i < d.nx; ++i) {
+            const int l = out.label.at(i, j, 0);
+            ASSERT_GE(l, 0);
+            ++count[l];
+            // Away from the bisector x = 19.5, the nearer source wins.
+            if (i <= 18) {
+                EXPECT_EQ(l, 0) << i << "," << j;
+            } else if (i >= 21) {
+                EXPECT_EQ(l, 1) << i << "," << j;
+            }
+        }
+    EXPECT_LT(std::abs(count[0] - count[1]), 0.05 * (count[0] + count[1]));
+}
+
+TEST(Labelled, SpeedRatioTwoGivesApolloniusCircle) {
+    // Fronts from a (speed 2) and b (speed 1): the boundary is the Apollonius circle where
+    // |x−a| = 2|x−b|: centre b + (b−a)/3, radius 2|b−a|/3.
+    const Dims d{81, 81, 1};
+    const double ax = 25, ay = 40, bx = 49, by = 40;
+    const auto out = marchLabelled(d, nullptr, {{d.index(25, 40, 0), 0, 0}, {d.index(49, 40, 0), 0, 1}}, {2.0, 1.0});
+    const double cx = bx + (bx - ax) / 3, cy = by + (by - ay) / 3, rad = 2 * (bx - ax) / 3;
+    int wrong = 0, checked = 0;
+    for (int j = 0; j < d.ny; ++j)
+        for (int i = 0; i < d.nx; ++i) {
+            const double r = std::hypot(i - cx, j - cy);
+            const int expect = r < rad ? 1 : 0;
+            if (std::abs(r - rad) < 2.5) continue;  // first-order band around the circle
+            ++checked;
+            wrong += out.label.at(i, j, 0) != expect;
+        }
+    EXPECT_GT(checked, 5000);
+    EXPECT_LT(wrong, checked / 200);
+}
+
+TEST(Labelled, ImpassableVoxelsAreNotReached) {
+    const Dims d{9, 1, 1};
+    Grid3<float> s(d, 1.0f);
+    s.at(4, 0, 0) = std::numeric_limits<float>::infinity();
+    const auto out = marchLabelled(d, &s, {{0, 0, 0}}, {1.0});
+    EXPECT_EQ(out.label.at(3, 0, 0), 0);
+    EXPECT_EQ(out.label.at(4, 0, 0), -1);
+    EXPECT_EQ(out.label.at(8, 0, 0), -1);
+    EXPECT_TRUE(std::isinf(out.time.at(8, 0, 0)));
+}
+
+TEST(Labelled, BadInputThrows) {
+    const Dims d{3, 3, 3};
+    EXPECT_THROW(marchLabelled(d, nullptr, {{100, 0, 0}}, {1.0}), std::invalid_argument);
+    EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 2}}, {1.0}), std::invalid_argument);
+    EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 0}}, {0.0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace cavesim::fastmarch
