@@ -93,7 +93,7 @@ struct Stage2Settings {
     double channelThreshold = 0.5;     ///< porosity at which an eroded voxel becomes channel, (0, 1]
     double protochannelPorosity = 0.25; ///< porosity of protochannel voxels at the interim step, [0, 1]
     /// Porosity (= water capacity = water injected per iteration at most) of source voxels, [0, 1].
-    double sourcePorosity = 0.25;
+    double sourcePorosity = 0.1;
     std::string weight = "proportional"; ///< transport weight rule: "proportional" or "uniform"
     std::vector<int> snapshots;   ///< iterations at which pictures are taken (2D/3D)
 };
