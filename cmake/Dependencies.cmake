@@ -17,3 +17,6 @@ endif()
 if(CAVESIM_BUILD_BENCH)
   find_package(benchmark CONFIG REQUIRED)
 endif()
+# FindOpenVDB switches BUILD_SHARED_LIBS on for the whole project; cavesim's own modules are
+# static libraries linked into one self-contained `cavesim` executable.
+set(BUILD_SHARED_LIBS OFF)

@@ -33,27 +33,51 @@ void axisMinima(const Dims& d, const Index3& p, const Get& get, double& ax, doub
                   p.k + 1 < d.nz ? get(d.index(p.i, p.j, p.k + 1)) : kInf);
 }
 
+/// The value of voxel r from all its neighbours' current values (the full update rule).
+template <typename Get>
+double fullUpdate(const Dims& d, const Index3& p, const Get& get, double f, Stencil stencil, double cap) {
+    double u = std::numeric_limits<double>::infinity();
+    if (stencil == Stencil::kAvalanche26) {
+        for (const auto& o : allNeighbours()) {
+            const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
+            if (d.contains(i, j, k)) u = std::min(u, get(d.index(i, j, k)) + f * o.length);
+        }
+    } else {
+        double ax, ay, az;
+        axisMinima(d, p, get, ax, ay, az);
+        u = upwindUpdate(ax, ay, az, f);
+    }
+    return std::min(cap, u);
+}
+
 /// Label-correcting sweep shared by `solve` and `decrease`: pops the smallest tentative value and
-/// re-evaluates its neighbours from the current values of all their neighbours. With heap order
-/// this is fast marching (each voxel settles once when values only fall); it also repairs a field
-/// whose slowness fell locally without touching the rest.
+/// re-evaluates its neighbours: the Godunov update of each face neighbour from the current values
+/// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
+/// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel settles once when values only
+/// fall); it also repairs a field whose slowness fell locally without touching the rest.
 std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
-                  Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched) {
+                  Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched) {
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value[n]; };
+    const bool diagonal = stencil == Stencil::kAvalanche26;
     while (!heap.empty()) {
         const auto [v, q] = heap.top();
         heap.pop();
         if (v != value[q]) continue;  // stale entry
         const Index3 p = d.coord(q);
-        for (const auto& o : faceNeighbours()) {
+        const auto visit = [&](const NeighbourOffset& o) {
             const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
-            if (!d.contains(i, j, k)) continue;
+            if (!d.contains(i, j, k)) return;
             const std::size_t r = d.index(i, j, k);
-            if (seed[r] || value[r] <= v) continue;  // only larger values can be lowered by q
-            double ax, ay, az;
-            axisMinima(d, {i, j, k}, get, ax, ay, az);
-            const double u = std::min(cap, upwindUpdate(ax, ay, az, slowness[r]));
+            if (seed[r] || value[r] <= v) return;  // only larger values can be lowered by q
+            double u;
+            if (diagonal) {
+                u = std::min(cap, v + double(slowness[r]) * o.length);
+            } else {
+                double ax, ay, az;
+                axisMinima(d, {i, j, k}, get, ax, ay, az);
+                u = std::min(cap, upwindUpdate(ax, ay, az, slowness[r]));
+            }
             if (u < value[r]) {
                 value[r] = u;
                 heap.push({u, r});
@@ -62,6 +86,11 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
                     ++changes;
                 }
             }
+        };
+        if (diagonal) {
+            for (const auto& o : allNeighbours()) visit(o);
+        } else {
+            for (const auto& o : faceNeighbours()) visit(o);
         }
     }
     return changes;
@@ -88,10 +117,12 @@ double upwindUpdate(double ax, double ay, double az, double f) {
     return u;
 }
 
-void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const std::vector<Seed>& seeds, double cap) {
+void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const std::vector<Seed>& seeds, double cap,
+                         Stencil stencil) {
     if (!(slowness.dims == dims)) throw std::invalid_argument("EikonalField::solve: slowness grid has other dims");
     dims_ = dims;
     cap_ = cap;
+    stencil_ = stencil;
     value_ = Grid3<double>(dims, cap);
     seed_.assign(dims.count(), 0);
     MinHeap heap;
@@ -103,7 +134,7 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     }
     for (std::size_t n = 0; n < seed_.size(); ++n)
         if (seed_[n]) heap.push({value_[n], n});
-    relax(dims_, slowness, seed_, cap_, value_, heap, nullptr);
+    relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, nullptr);
 }
 
 std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed) {
@@ -113,9 +144,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
     const auto get = [&](std::size_t n) { return value_[n]; };
     for (std::size_t q : changed) {
         if (q >= value_.size() || seed_[q]) continue;
-        double ax, ay, az;
-        axisMinima(dims_, dims_.coord(q), get, ax, ay, az);
-        const double u = std::min(cap_, upwindUpdate(ax, ay, az, slowness[q]));
+        const double u = fullUpdate(dims_, dims_.coord(q), get, slowness[q], stencil_, cap_);
         if (u < value_[q]) {
             value_[q] = u;
             heap.push({u, q});
@@ -125,7 +154,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
             }
         }
     }
-    return changes + relax(dims_, slowness, seed_, cap_, value_, heap, &touched);
+    return changes + relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, &touched);
 }
 
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
@@ -162,7 +191,7 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         if (!any) continue;
         const float inv = float(1.0 / labelSpeed[label]);
         for (std::size_t n = 0; n < dims.count(); ++n) labelSlowness[n] = (slowness ? (*slowness)[n] : 1.0f) * inv;
-        relax(dims, labelSlowness, isSeed, kInf, time, heap, nullptr);
+        relax(dims, labelSlowness, isSeed, kInf, Stencil::kFace6, time, heap, nullptr);
         for (std::size_t n = 0; n < dims.count(); ++n)
             if (time[n] < out.time[n]) {  // strict: on a tie the lower label, marched first, keeps the voxel
                 out.time[n] = time[n];

@@ -77,6 +77,19 @@ struct Stage1Settings {
     double protochannelPorosity = 0.35;   ///< porosity set along protochannels after stage 1, [0, 1]
     double capacityExponent = 1.0;        ///< edge capacity = min(porosity)^exponent, (0, 8]
     long maxGraphVoxels = 4000000;        ///< zones larger than this are refused (memory), [1, 1e9]
+    /// Grid faces that count as zone boundary (protosinks there): any of "-x", "+x", "-y", "+y",
+    /// "-z", "+z", each at most once; empty = only the boundaries between zones. Default: all but
+    /// the top (+z), the recharge side from which the sources are fed.
+    std::vector<std::string> boundaryFaces{"-x", "+x", "-y", "+y", "-z"};
+    /// Total drain of a zone's protosinks as a fraction of its source capacity (the summed
+    /// capacity of the links leaving the source voxels), shared in proportion to porosity; (0, 1].
+    double protosinkShare = 0.5;
+    /// A voxel becomes protochannel only if at least this fraction of its zone's flow passes
+    /// through it; [0, 1]. Smaller: more, longer branches reaching closer to the zone boundary.
+    double branchFlow = 0.02;
+    /// Relative random variation of link resistance (sub-voxel heterogeneity, seeded); breaks
+    /// the ties among equally short staircase paths of the voxel grid; [0, 1].
+    double resistanceNoise = 0.5;
 };
 
 struct Stage2Settings {
@@ -95,6 +108,9 @@ struct Stage2Settings {
     /// Porosity (= water capacity = water injected per iteration at most) of source voxels, [0, 1].
     double sourcePorosity = 0.1;
     std::string weight = "proportional"; ///< transport weight rule: "proportional" or "uniform"
+    /// Flow blending rule of Eq. 2: "max" (f_a = the largest f_c of the downhill neighbours) or
+    /// "split" (each voxel's f_c split equally over its uphill neighbours).
+    std::string blending = "max";
     std::vector<int> snapshots;   ///< iterations at which pictures are taken (2D/3D)
 };
 

@@ -368,8 +368,28 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
         g.capacityExponent = r.number("capacity_exponent", g.capacityExponent, 0, 8, true);
         g.maxGraphVoxels = r.integer("max_graph_voxels", g.maxGraphVoxels, 1, 1000000000L);
+        if (const toml::node* n = r.get("boundary_faces")) {
+            const std::vector<std::string> names{"-x", "+x", "-y", "+y", "-z", "+z"};
+            const std::string allowed =
+                "must be an array of distinct grid faces out of \"-x\", \"+x\", \"-y\", \"+y\", \"-z\", \"+z\" "
+                "(may be empty)";
+            auto a = n->as_array();
+            if (!a) r.fail("boundary_faces", n, allowed);
+            g.boundaryFaces.clear();
+            for (const toml::node& e : *a) {
+                auto str = e.as_string();
+                if (!str || std::find(names.begin(), names.end(), str->get()) == names.end() ||
+                    std::find(g.boundaryFaces.begin(), g.boundaryFaces.end(), str->get()) != g.boundaryFaces.end())
+                    r.fail("boundary_faces", n, allowed);
+                g.boundaryFaces.push_back(str->get());
+            }
+        }
+        g.protosinkShare = r.number("protosink_share", g.protosinkShare, 0, 1, true);
+        g.branchFlow = r.number("branch_flow", g.branchFlow, 0, 1);
+        g.resistanceNoise = r.number("resistance_noise", g.resistanceNoise, 0, 1);
         r.finish({"enabled", "protosinks", "clusters", "cluster_radius", "aim", "permeability",
-                  "protochannel_porosity", "capacity_exponent", "max_graph_voxels"});
+                  "protochannel_porosity", "capacity_exponent", "max_graph_voxels", "boundary_faces",
+                  "protosink_share", "branch_flow", "resistance_noise"});
     }
     if (const toml::table* t = top.subtable("stage2")) {
         TableReader r(*t, "stage2", file);
@@ -390,13 +410,15 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
         g.sourcePorosity = r.number("source_porosity", g.sourcePorosity, 0, 1, true);
         g.weight = r.choice("weight", g.weight, {"proportional", "uniform"});
+        g.blending = r.choice("blending", g.blending, {"max", "split"});
         if (const toml::node* n = r.get("snapshots")) {
             auto a = n->as_array();
             if (!a) r.fail("snapshots", n, "must be an array of iteration numbers");
             for (const toml::node& e : *a) g.snapshots.push_back(int(r.toInteger("snapshots", e, 0, 1000000)));
         }
         r.finish({"enabled", "iterations", "p_rate", "p_rate_channel", "w0", "wa", "m", "pressure_scale",
-                  "channel_threshold", "protochannel_porosity", "source_porosity", "weight", "snapshots"});
+                  "channel_threshold", "protochannel_porosity", "source_porosity", "weight", "blending",
+                  "snapshots"});
     }
     if (const toml::table* t = top.subtable("output")) {
         TableReader r(*t, "output", file);
@@ -544,6 +566,8 @@ std::string scenarioToToml(const Scenario& s) {
     const Stage1Settings& g1 = s.stage1;
     toml::array aim;
     for (const auto& p : g1.aim) aim.push_back(arr3(p));
+    toml::array faces;
+    for (const auto& f : g1.boundaryFaces) faces.push_back(f);
     root.insert("stage1", toml::table{{"enabled", g1.enabled},
                                       {"protosinks", g1.protosinks},
                                       {"clusters", g1.clusters},
@@ -552,7 +576,11 @@ std::string scenarioToToml(const Scenario& s) {
                                       {"permeability", g1.permeability},
                                       {"protochannel_porosity", g1.protochannelPorosity},
                                       {"capacity_exponent", g1.capacityExponent},
-                                      {"max_graph_voxels", static_cast<std::int64_t>(g1.maxGraphVoxels)}});
+                                      {"max_graph_voxels", static_cast<std::int64_t>(g1.maxGraphVoxels)},
+                                      {"boundary_faces", faces},
+                                      {"protosink_share", g1.protosinkShare},
+                                      {"branch_flow", g1.branchFlow},
+                                      {"resistance_noise", g1.resistanceNoise}});
     const Stage2Settings& g2 = s.stage2;
     toml::array snaps;
     for (int it : g2.snapshots) snaps.push_back(it);
@@ -568,6 +596,7 @@ std::string scenarioToToml(const Scenario& s) {
                                       {"protochannel_porosity", g2.protochannelPorosity},
                                       {"source_porosity", g2.sourcePorosity},
                                       {"weight", g2.weight},
+                                      {"blending", g2.blending},
                                       {"snapshots", snaps}});
     root.insert("output", toml::table{{"mesh_style", s.output.meshStyle},
                                       {"image_width", s.output.imageWidth},

@@ -18,68 +18,113 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr std::uint8_t kOpen = kSource | kSink;
+
+/// Contents below this (porosity units, i.e. a 10⁻⁹ part of a voxel) stay where they are: a film
+/// too thin to flow. Listing 1 moves all of a voxel's water every iteration, so water spreads
+/// into ever thinner films far from the channels; leaving those films in place changes porosity
+/// by less than w0 · 10⁻⁹ per iteration and halves the work of a typical run. Water is still
+/// conserved exactly (the film is stored, and counted).
+constexpr double kMinFlowingWater = 1e-9;
 constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
 
-/// Neighbour offsets grouped so that each sum visits (−x, +x) as a pair, then the x = 0 one:
-/// group g = (dj, dk) in a fixed order; slot 0 = di −1, slot 1 = di +1, slot 2 = di 0 (absent for
-/// the centre group). The index into allNeighbours() of each entry is kept for offer storage.
-struct PairedNeighbours {
-    struct Entry {
-        int di, dj, dk;
-        double invLength;
-        int slot;  ///< index in allNeighbours(); the opposite direction is 25 − slot
-    };
-    // 9 groups × 3 entries; the centre group (dj = dk = 0) has no x = 0 entry.
-    std::array<std::array<Entry, 3>, 9> groups{};
-    PairedNeighbours() {
-        const auto& all = allNeighbours();
-        auto slotOf = [&](int di, int dj, int dk) {
-            for (int s = 0; s < 26; ++s)
-                if (all[s].di == di && all[s].dj == dj && all[s].dk == dk) return s;
-            return -1;
-        };
-        int g = 0;
+/// The 26 neighbour directions in "paired" order: groups (dj, dk) in a fixed order, and in each
+/// group −x, +x, then x = 0 (absent for the centre group). Every sum over neighbours adds the −x
+/// and +x terms first (a + b == b + a exactly), so an x-mirrored state gives x-mirrored sums bit
+/// for bit.
+struct Slot {
+    int di, dj, dk;
+    double invLength;  ///< 1 / |offset|
+    int opposite;      ///< slot of the reverse direction
+};
+
+struct SlotTable {
+    std::array<Slot, 26> slot{};
+    SlotTable() {
+        int c = 0;
         for (int dk = -1; dk <= 1; ++dk)
-            for (int dj = -1; dj <= 1; ++dj, ++g) {
-                for (int c = 0; c < 3; ++c) {
-                    const int di = c == 0 ? -1 : (c == 1 ? 1 : 0);
-                    const int s = slotOf(di, dj, dk);
-                    const double len = std::sqrt(double(di * di + dj * dj + dk * dk));
-                    groups[g][c] = Entry{di, dj, dk, len > 0 ? 1.0 / len : 0.0, s};
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di : {-1, 1, 0}) {
+                    if (di == 0 && dj == 0 && dk == 0) continue;
+                    slot[std::size_t(c++)] = Slot{di, dj, dk, 1.0 / std::sqrt(double(di * di + dj * dj + dk * dk)), -1};
                 }
-            }
+        for (auto& a : slot)
+            for (int b = 0; b < 26; ++b)
+                if (slot[std::size_t(b)].di == -a.di && slot[std::size_t(b)].dj == -a.dj && slot[std::size_t(b)].dk == -a.dk)
+                    a.opposite = b;
     }
 };
 
-const PairedNeighbours& paired() {
-    static const PairedNeighbours p;
-    return p;
+const SlotTable& slots() {
+    static const SlotTable t;
+    return t;
 }
 
-/// Σ over the 26 neighbours of v of term(entry, neighbourIndex), paired −x/+x first.
-/// Out-of-domain neighbours contribute nothing.
+/// One row (j, k) of the grid with the linear index of the start of each of its 9 neighbour rows
+/// (j + dj, k + dk) in paired-group order, or −1 where that row lies outside the grid.
+struct Row {
+    int nx = 0;
+    std::size_t index = 0;               ///< row number j + ny·k
+    std::size_t first = 0;               ///< linear index of voxel (0, j, k)
+    std::array<std::ptrdiff_t, 9> base{};
+    Row(const Dims& d, int j, int k) : nx(d.nx), index(std::size_t(j) + std::size_t(d.ny) * std::size_t(k)) {
+        first = d.index(0, j, k);
+        int g = 0;
+        for (int dk = -1; dk <= 1; ++dk)
+            for (int dj = -1; dj <= 1; ++dj, ++g) {
+                const int jj = j + dj, kk = k + dk;
+                base[std::size_t(g)] =
+                    (jj >= 0 && kk >= 0 && jj < d.ny && kk < d.nz) ? std::ptrdiff_t(d.index(0, jj, kk)) : -1;
+            }
+    }
+    /// True when `flag` is set for this row or any of its 8 neighbour rows.
+    bool anyAround(const std::vector<std::uint8_t>& flag) const {
+        for (std::ptrdiff_t b : base)
+            if (b >= 0 && flag[std::size_t(b) / std::size_t(nx)]) return true;
+        return false;
+    }
+};
+
+/// Σ over the 26 neighbours of voxel i of `row` inside the grid of term(slot, neighbourIndex), in
+/// paired order. Out-of-grid neighbours contribute nothing.
 template <typename Term>
-inline double pairedSum(const Dims& d, int i, int j, int k, Term&& term) {
+inline double pairedSum(const Row& row, int i, Term&& term) {
     double total = 0;
-    for (const auto& grp : paired().groups) {
-        const int jj = j + grp[0].dj, kk = k + grp[0].dk;
-        if (jj < 0 || kk < 0 || jj >= d.ny || kk >= d.nz) continue;
-        const double a = (i > 0) ? term(grp[0], d.index(i - 1, jj, kk)) : 0.0;
-        const double b = (i + 1 < d.nx) ? term(grp[1], d.index(i + 1, jj, kk)) : 0.0;
-        double s = a + b;
-        if (grp[2].slot >= 0) s += term(grp[2], d.index(i, jj, kk));
-        total += s;
+    int s = 0;
+    for (int g = 0; g < 9; ++g) {
+        const std::ptrdiff_t b = row.base[std::size_t(g)];
+        if (b >= 0) {
+            const std::size_t at = std::size_t(b + i);
+            const double lo = i > 0 ? term(s, at - 1) : 0.0;
+            const double hi = i + 1 < row.nx ? term(s + 1, at + 1) : 0.0;
+            double sum = lo + hi;
+            if (g != 4) sum += term(s + 2, at);  // the centre group (dj, dk) = (0, 0) has no x = 0 entry
+            total += sum;
+        }
+        s += g == 4 ? 2 : 3;
     }
     return total;
 }
 
+/// Σ of per-slot values in the same paired order as pairedSum (slots outside the grid hold 0,
+/// and adding 0 is exact, so both sums agree bit for bit).
+inline double pairedSlotSum(const std::array<double, 26>& x) {
+    double total = 0;
+    int s = 0;
+    for (int g = 0; g < 9; ++g) {
+        double sum = x[std::size_t(s)] + x[std::size_t(s + 1)];
+        if (g != 4) sum += x[std::size_t(s + 2)];
+        total += sum;
+        s += g == 4 ? 2 : 3;
+    }
+    return total;
+}
+
+/// Calls body(row) for every row (j, k) of the grid, rows in parallel. Each call may write only
+/// the voxels of its own row (and per-row flags), so the result does not depend on scheduling.
 template <typename Body>
-void forEachSlab(const Dims& d, Body&& body) {
+void forEachRow(const Dims& d, Body&& body) {
     tbb::parallel_for(tbb::blocked_range<int>(0, d.nz * d.ny), [&](const tbb::blocked_range<int>& r) {
-        for (int row = r.begin(); row != r.end(); ++row) {
-            const int k = row / d.ny, j = row % d.ny;
-            for (int i = 0; i < d.nx; ++i) body(i, j, k, d.index(i, j, k));
-        }
+        for (int rowIndex = r.begin(); rowIndex != r.end(); ++rowIndex) body(Row(d, rowIndex % d.ny, rowIndex / d.ny));
     });
 }
 
@@ -162,7 +207,7 @@ void prepareStage2(Domain& dom, const Scenario& s) {
 
 Grid3<double> solvePressureFull(const Domain& dom, const Scenario& s) {
     fastmarch::EikonalField field;
-    field.solve(dom.dims, rateField(dom, s.stage2), sinkSeeds(dom), stage2PressureCap(s));
+    field.solve(dom.dims, rateField(dom, s.stage2), sinkSeeds(dom), stage2PressureCap(s), fastmarch::Stencil::kAvalanche26);
     return field.value();
 }
 
@@ -187,14 +232,29 @@ Stage2Result runStage2(Domain& dom, const Scenario& s, const ProgressFn& progres
     fastmarch::EikonalField pressure;
     {
         const auto tp = Clock::now();
-        pressure.solve(d, rate, sinkSeeds(dom), res.pressureCap);
+        pressure.solve(d, rate, sinkSeeds(dom), res.pressureCap, fastmarch::Stencil::kAvalanche26);
         res.pressureSeconds += since(tp);
     }
 
     std::vector<double> water(n, 0.0);
-    std::vector<double> scale(n, 0.0), norm(n, 0.0), accept(n, 0.0), fc(n, 0.0), fa(n, 0.0), upShare(n, 0.0);
+    std::vector<double> accept(n, 0.0), incoming(n, 0.0), fc(n, 0.0), fa(n, 0.0), upShare(n, 0.0);
+    // offer[s][v]: water voxel v offers this iteration to its neighbour in direction s (slot-major,
+    // so the sums over neighbours read contiguous rows).
+    std::vector<double> offerStore(26 * n, 0.0);
+    std::array<double*, 26> offer{};
+    for (std::size_t sl = 0; sl < 26; ++sl) offer[sl] = offerStore.data() + sl * n;
+    std::array<int, 26> opposite{};
+    std::array<double, 26> invLength{};
+    for (std::size_t sl = 0; sl < 26; ++sl) {
+        opposite[sl] = slots().slot[sl].opposite;
+        invLength[sl] = slots().slot[sl].invLength;
+    }
+    std::vector<std::uint8_t> hadOffers(n, 0);
+    const std::size_t rows = std::size_t(d.ny) * std::size_t(d.nz);
+    std::vector<std::uint8_t> wetRow(rows, 0), offerRow(rows, 0), flowRow(rows, 0);
     std::vector<std::size_t> changed;
     const bool proportional = g.weight == "proportional";
+    const bool splitBlending = g.blending == "split";
     double stored = 0;
 
     for (int it = 1; it <= g.iterations; ++it) {
@@ -211,82 +271,138 @@ Stage2Result runStage2(Domain& dom, const Scenario& s, const ProgressFn& progres
                 rec.injected += target - water[v];
                 water[v] = target;
             }
+            if (water[v] > 0) wetRow[v / std::size_t(d.nx)] = 1;
         }
 
         // Phase 1 (Listing 1): every voxel's offers, from the state at the start of the iteration.
         // offer(v→u) = scale_v · weight(ΔP)/Σweight · (capacity_u − contents_u) for each lower-pressure
         // neighbour u with free capacity; scale_v ≤ 1 keeps the total within v's contents.
-        // Offers are recomputed where needed (same expression, same bits) instead of stored.
-        auto weightNum = [&](std::size_t v, std::size_t u, double invLength) {
-            if (!(P[u] < P[v]) || !(dom.porosity[u] > water[u])) return 0.0;
-            return proportional ? (P[v] - P[u]) * invLength : 1.0;
-        };
-        auto offer = [&](std::size_t v, std::size_t u, double invLength) {
-            if (scale[v] == 0) return 0.0;
-            const double num = weightNum(v, u, invLength);
-            return num == 0 ? 0.0 : scale[v] * (num / norm[v]) * (double(dom.porosity[u]) - water[u]);
-        };
-        forEachSlab(d, [&](int i, int j, int k, std::size_t v) {
-            scale[v] = 0;
-            norm[v] = 0;
-            const double w = water[v];
-            if (w <= 0 || (dom.flags[v] & kSink)) return;
-            norm[v] = pairedSum(d, i, j, k, [&](const PairedNeighbours::Entry& e, std::size_t u) {
-                return weightNum(v, u, e.invLength);
-            });
-            if (norm[v] <= 0) return;
-            const double total = pairedSum(d, i, j, k, [&](const PairedNeighbours::Entry& e, std::size_t u) {
-                const double num = weightNum(v, u, e.invLength);
-                return num == 0 ? 0.0 : (num / norm[v]) * (double(dom.porosity[u]) - water[u]);
-            });
-            scale[v] = total > w ? w / total : 1.0;
+        // Rows far from any water are skipped: they neither offer nor receive. Per-row flags:
+        // wetRow (some contents), offerRow (some offers), flowRow (some outflow f_c).
+        forEachRow(d, [&](const Row& row) {
+            if (!wetRow[row.index] && !offerRow[row.index]) return;
+            bool any = false;
+            for (int i = 0; i < row.nx; ++i) {
+                const std::size_t v = row.first + std::size_t(i);
+                const double w = water[v];
+                if (w < kMinFlowingWater || (dom.flags[v] & kSink)) {
+                    if (hadOffers[v]) {
+                        for (double* o : offer) o[v] = 0;
+                        hadOffers[v] = 0;
+                    }
+                    continue;
+                }
+                // Participants (Listing 1, lines 1–4) and their weights, gathered once.
+                std::array<double, 26> num{}, freeCap{};
+                const double pv = P[v];
+                const double norm = pairedSum(row, i, [&](int sl, std::size_t u) {
+                    const double pu = P[u];
+                    if (!(pu < pv)) return 0.0;
+                    const double fr = double(dom.porosity[u]) - water[u];
+                    if (!(fr > 0)) return 0.0;
+                    const double x = proportional ? (pv - pu) * invLength[std::size_t(sl)] : 1.0;
+                    num[std::size_t(sl)] = x;
+                    freeCap[std::size_t(sl)] = fr;
+                    return x;
+                });
+                hadOffers[v] = 1;
+                any = true;
+                if (!(norm > 0)) {
+                    for (double* o : offer) o[v] = 0;
+                    continue;
+                }
+                // Shares weight · free capacity; their total, in the same paired order.
+                std::array<double, 26> share{};
+                for (std::size_t sl = 0; sl < 26; ++sl)
+                    share[sl] = num[sl] != 0 ? (num[sl] / norm) * freeCap[sl] : 0.0;
+                const double total = pairedSlotSum(share);
+                const double scale = total > w ? w / total : 1.0;  // never more in total than the contents
+                for (std::size_t sl = 0; sl < 26; ++sl) offer[sl][v] = share[sl] * scale;
+            }
+            offerRow[row.index] = any ? 1 : 0;
         });
 
         // Phase 2: each receiver accepts the same fraction of every offer it got.
-        forEachSlab(d, [&](int i, int j, int k, std::size_t u) {
-            const double incoming = pairedSum(d, i, j, k, [&](const PairedNeighbours::Entry& e, std::size_t v) {
-                return offer(v, u, e.invLength);
-            });
-            const double freeCap = (dom.flags[u] & kSink) ? incoming : double(dom.porosity[u]) - water[u];
-            accept[u] = incoming > freeCap ? std::max(0.0, freeCap) / incoming : 1.0;
+        forEachRow(d, [&](const Row& row) {
+            if (!row.anyAround(offerRow)) {
+                std::fill_n(incoming.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
+                std::fill_n(accept.begin() + std::ptrdiff_t(row.first), row.nx, 1.0);
+                return;
+            }
+            for (int i = 0; i < row.nx; ++i) {
+                const std::size_t u = row.first + std::size_t(i);
+                // The offer reaching u from its neighbour v in direction s was made by v in the opposite direction.
+                const double in = pairedSum(row, i, [&](int sl, std::size_t v) {
+                    return offer[std::size_t(opposite[std::size_t(sl)])][v];
+                });
+                incoming[u] = in;
+                const double freeCap = (dom.flags[u] & kSink) ? in : double(dom.porosity[u]) - water[u];
+                accept[u] = in > freeCap ? std::max(0.0, freeCap) / in : 1.0;
+            }
         });
 
         // Phase 3: move the accepted water; f_c = water that left the voxel.
-        forEachSlab(d, [&](int i, int j, int k, std::size_t v) {
-            fc[v] = pairedSum(d, i, j, k, [&](const PairedNeighbours::Entry& e, std::size_t u) {
-                return offer(v, u, e.invLength) * accept[u];
-            });
-            fa[v] = accept[v] * pairedSum(d, i, j, k, [&](const PairedNeighbours::Entry& e, std::size_t u) {
-                return offer(u, v, e.invLength);
-            });  // inflow; fa is reused for blending below
+        forEachRow(d, [&](const Row& row) {
+            bool any = false;
+            for (int i = 0; i < row.nx; ++i) {
+                const std::size_t v = row.first + std::size_t(i);
+                fc[v] = offerRow[row.index] && hadOffers[v]
+                            ? pairedSum(row, i, [&](int sl, std::size_t u) { return offer[std::size_t(sl)][v] * accept[u]; })
+                            : 0.0;
+                any = any || fc[v] > 0;
+            }
+            flowRow[row.index] = any ? 1 : 0;
         });
         double drained = 0, moved = 0;
+        std::fill(wetRow.begin(), wetRow.end(), 0);
         for (std::size_t v = 0; v < n; ++v) {
-            water[v] += fa[v] - fc[v];
+            water[v] += accept[v] * incoming[v] - fc[v];
             moved += fc[v];
             if (dom.flags[v] & kSink) {
                 drained += water[v];
                 water[v] = 0;
             }
+            if (water[v] > 0) wetRow[v / std::size_t(d.nx)] = 1;
         }
         rec.drained = drained;
         rec.flow = moved;
         res.transportSeconds += since(tt);
 
-        // Flow blending (Eq. 2): each voxel passes f_c, split equally, to its uphill neighbours.
+        // Flow blending (Eq. 2): f_a of a voxel is the flow of its downhill neighbours — the largest
+        // f_c among them ("max"), or the sum of the shares each passes, f_c split equally over its
+        // uphill neighbours ("split").
         const auto te = Clock::now();
-        forEachSlab(d, [&](int i, int j, int k, std::size_t v) {
-            const double pv = P[v];
-            const double up = pairedSum(d, i, j, k, [&](const PairedNeighbours::Entry&, std::size_t u) {
-                return P[u] > pv ? 1.0 : 0.0;
-            });
-            upShare[v] = up > 0 ? fc[v] / up : 0.0;
+        if (splitBlending) forEachRow(d, [&](const Row& row) {
+            for (int i = 0; i < row.nx; ++i) {
+                const std::size_t v = row.first + std::size_t(i);
+                if (fc[v] == 0) {
+                    upShare[v] = 0;
+                    continue;
+                }
+                const double pv = P[v];
+                const double up = pairedSum(row, i, [&](int, std::size_t u) { return P[u] > pv ? 1.0 : 0.0; });
+                upShare[v] = up > 0 ? fc[v] / up : 0.0;
+            }
         });
-        forEachSlab(d, [&](int i, int j, int k, std::size_t v) {
-            const double pv = P[v];
-            fa[v] = pairedSum(d, i, j, k, [&](const PairedNeighbours::Entry&, std::size_t u) {
-                return P[u] < pv ? upShare[u] : 0.0;
-            });
+        forEachRow(d, [&](const Row& row) {
+            if (!row.anyAround(flowRow)) {
+                std::fill_n(fa.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
+                return;
+            }
+            for (int i = 0; i < row.nx; ++i) {
+                const std::size_t v = row.first + std::size_t(i);
+                const double pv = P[v];
+                if (splitBlending) {
+                    fa[v] = pairedSum(row, i, [&](int, std::size_t u) { return P[u] < pv ? upShare[u] : 0.0; });
+                } else {
+                    double strongest = 0;  // max is order-free: mirror symmetry and determinism hold
+                    pairedSum(row, i, [&](int, std::size_t u) {
+                        if (P[u] < pv) strongest = std::max(strongest, fc[u]);
+                        return 0.0;
+                    });
+                    fa[v] = strongest;
+                }
+            }
         });
 
         // Erosion (Eq. 1) and channel flags.
@@ -299,7 +415,7 @@ Stage2Result runStage2(Domain& dom, const Scenario& s, const ProgressFn& progres
             const double flow = g.wa * fa[v] + fc[v];
             if (flow > 0) {
                 const float R = dom.porosity[v];
-                const double dR = std::min(g.w0 * std::pow(flow, g.m), 1.0 - double(R));
+                const double dR = std::min(g.w0 * (g.m == 1.0 ? flow : std::pow(flow, g.m)), 1.0 - double(R));
                 if (dR > 0) {
                     dom.porosity[v] = std::min(1.f, float(double(R) + dR));
                     eroded += double(dom.porosity[v]) - double(R);
