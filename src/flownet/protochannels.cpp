@@ -1,0 +1,132 @@
+/// @file protochannels.cpp
+/// @brief Protochannel tracing: upstream walks along maximal in-flow from the protosinks.
+#include "flownet/protochannels.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+namespace cavesim::flownet {
+namespace {
+
+enum : std::uint8_t { kFree = 0, kMarked = 1, kSourceNode = 2 };
+
+}  // namespace
+
+ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult& result, const TraceOptions& options) {
+    if (result.flow.size() != net.arcCount())
+        throw std::invalid_argument("traceProtochannels: flow does not match network");
+    if (!(options.minSinkFraction >= 0 && options.minSinkFraction <= 1) ||
+        !(options.minThroughFraction >= 0 && options.minThroughFraction <= 1) || options.minBranchVoxels < 1)
+        throw std::invalid_argument("traceProtochannels: options out of range");
+    const std::vector<double>& flow = result.flow;
+    const std::size_t n = net.voxelNodes;
+    ProtochannelTree tree;
+
+    std::vector<std::uint8_t> state(n, kFree);
+    for (NodeId s : net.sources) state[s] = kSourceNode;
+
+    // Upstream neighbour of v: the voxel whose arc into v carries the most flow (ties: lower id).
+    const auto upstream = [&](NodeId v) -> std::int64_t {
+        std::int64_t best = -1;
+        double bestFlow = 0;
+        for (ArcId a = net.arcBegin[v]; a < net.arcBegin[v + 1]; ++a) {
+            const NodeId u = net.arcTarget[a];
+            if (u >= n) continue;  // terminals
+            const double in = -flow[a];
+            if (in > bestFlow || (in == bestFlow && in > 0 && u < best)) {
+                bestFlow = in;
+                best = u;
+            }
+        }
+        return best;
+    };
+    // A source voxel or tree voxel sharing a face with v, other than `from`; sources first, then
+    // the one sending v the most flow, then the lower id. −1 if none.
+    const auto contact = [&](NodeId v, NodeId from) -> std::int64_t {
+        std::int64_t best = -1;
+        int bestRank = -1;
+        double bestFlow = 0;
+        for (ArcId a = net.arcBegin[v]; a < net.arcBegin[v + 1]; ++a) {
+            const NodeId u = net.arcTarget[a];
+            if (u >= n || u == from || state[u] == kFree) continue;
+            const int rank = state[u] == kSourceNode ? 1 : 0;
+            const double in = -flow[a];
+            if (rank > bestRank || (rank == bestRank && (in > bestFlow || (in == bestFlow && u < best)))) {
+                best = u;
+                bestRank = rank;
+                bestFlow = in;
+            }
+        }
+        return best;
+    };
+
+    // Protosinks by decreasing inflow (the flow on their arc to the super-sink).
+    std::vector<std::pair<double, NodeId>> sinks;
+    double largest = 0;
+    for (NodeId p : net.protosinks) {
+        double in = 0;
+        for (ArcId a = net.arcBegin[p]; a < net.arcBegin[p + 1]; ++a)
+            if (net.arcTarget[a] == net.sink) in += flow[a];
+        if (in > 0) {
+            sinks.push_back({in, p});
+            largest = std::max(largest, in);
+        }
+    }
+    tree.protosinksWithFlow = sinks.size();
+    std::sort(sinks.begin(), sinks.end(), [](const auto& a, const auto& b) {
+        return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+
+    const std::vector<double> through = throughFlow(net, result);
+    const double minThrough = options.minThroughFraction * result.value;
+    std::vector<NodeId> path, parents;
+    for (const auto& [in, p] : sinks) {
+        if (in < options.minSinkFraction * largest) break;
+        std::int64_t first = upstream(p);
+        NodeId from = p;
+        for (std::size_t steps = 0;
+             first >= 0 && state[std::size_t(first)] == kFree && through[std::size_t(first)] < minThrough; ++steps) {
+            if (steps > n) {  // only with flow cycles: give the walk up
+                first = -1;
+                break;
+            }
+            from = NodeId(first);
+            first = upstream(NodeId(first));
+        }
+        if (first < 0 || state[std::size_t(first)] != kFree) continue;
+        path.clear();
+        parents.clear();
+        NodeId v = NodeId(first);
+        bool attached = false;
+        for (std::size_t steps = 0; steps <= n; ++steps) {
+            path.push_back(v);
+            const std::int64_t touch = options.joinOnContact ? contact(v, from) : -1;
+            if (touch >= 0) {
+                parents.push_back(NodeId(touch));
+                attached = true;
+                break;
+            }
+            const std::int64_t u = upstream(v);
+            if (u < 0) break;  // no upstream flow: abandon
+            parents.push_back(NodeId(u));
+            if (state[std::size_t(u)] != kFree) {
+                attached = true;
+                break;
+            }
+            from = v;
+            v = NodeId(u);
+        }
+        if (!attached) continue;
+        if (path.size() < std::size_t(options.minBranchVoxels) && !tree.nodes.empty()) continue;
+        for (std::size_t i = 0; i < path.size(); ++i) {
+            state[path[i]] = kMarked;
+            tree.nodes.push_back(path[i]);
+            tree.parent.push_back(parents[i]);
+        }
+        ++tree.branches;
+    }
+    return tree;
+}
+
+}  // namespace cavesim::flownet

@@ -1,0 +1,87 @@
+/// @file stage1.h
+/// @brief Stage 1 of Pytel & Mann (JCGT 2015, §3.1, §5): pressure zones and protochannels.
+///
+///  1. **Pressure zones** (fast marching, src/fastmarch): one front per source, all marching at
+///     once; source i's front moves with speed p_i (its `pressure`), with `[stage1] permeability
+///     = "porosity"` (the default) times R(x)/R̄ — the local porosity over the domain's mean — so
+///     fronts hurry along fractures and bedding planes, crawl through obstacles and never enter
+///     rock of porosity 0. Each voxel joins the front that reaches it first (ties: the lower
+///     source); voxels no front reaches keep zone −1. In uniform rock this is the multiplicatively
+///     weighted Voronoi division: equal pressures split on the bisector, 2 : 1 on an Apollonius
+///     sphere (paper Figure 5).
+///  2. **Flow network per zone** (src/flownet/flow_network.h): the zone's voxels except sinks
+///     (inactive in stage 1) are nodes; face-neighbour pairs are edges of capacity
+///     min(R_a, R_b)^capacity_exponent and resistance 1/capacity × (1 + resistance_noise · u),
+///     u a seeded hash of the pair. The super-source feeds the source voxels without limit.
+///     **Protosinks** drain to the super-sink: with `protosinks = "boundary"` every voxel of the
+///     zone's boundary — voxels with a face neighbour in another zone, and voxels on the grid
+///     faces listed in `boundary_faces` (default all but the top) — with `"clustered"` only the
+///     boundary voxels within `cluster_radius` of `clusters` centres drawn from the seed, or of
+///     the boundary voxels nearest the `aim` points (then the rest of the boundary is left out of
+///     the network, so no channel runs along the zone's edge). Each protosink drains at most its
+///     share of `protosink_share` × the source capacity (in proportion to its porosity): the
+///     paper's "idealized small-flow gradient", the same all over the boundary.
+///  3. **Max flow** (src/flownet/max_flow.h): the maximum flow of least total resistance, by
+///     primal–dual phases of Dijkstra + Boost.Graph's Boykov–Kolmogorov max flow; flow cycles
+///     are then cancelled. The file comment there says why a plain max flow is not enough.
+///  4. **Protochannels** (src/flownet/protochannels.h): from the protosinks that receive flow,
+///     strongest first, walk upstream along the in-arc of largest flow until a source voxel or
+///     the tree is reached or touched; only voxels carrying at least `branch_flow` of the zone's
+///     flow are marked. The result is a tree of 1-voxel channels rooted at the source that
+///     branches outward. Traced voxels get the kProtochannel flag and porosity
+///     max(R, protochannel_porosity) (the paper's display erosion; porosity0 keeps the initial
+///     rock and the interim step resets it).
+///
+/// Zones are solved in parallel (TBB), each independently, and merged in source order, so the
+/// result is the same for any thread count. The random draws (cluster centres, then one seed for
+/// the resistance noise) are taken from `rng` before the parallel part, zone by zone in source
+/// order.
+#pragma once
+
+#include <vector>
+
+#include "core/progress.h"
+#include "sim/domain.h"
+#include "sim/scenario.h"
+
+namespace cavesim {
+
+/// Size, flow and outcome of one zone's network.
+struct ZoneStats {
+    int source = 0;               ///< source index (scenario order)
+    long voxels = 0;              ///< voxels in the zone
+    long graphNodes = 0;          ///< voxel nodes of the network (the zone without its sinks)
+    long graphEdges = 0;          ///< undirected voxel–voxel edges with positive capacity
+    long graphBytes = 0;          ///< peak heap bytes of network and solver
+    double maxFlow = 0;           ///< max-flow value (capacity units: porosity^exponent)
+    long protosinks = 0;          ///< protosink voxels
+    long protochannelVoxels = 0;  ///< voxels traced
+    double seconds = 0;           ///< wall time of build, solve and trace
+    long protosinksWithFlow = 0;  ///< protosinks that received flow
+    long branches = 0;            ///< branches of the protochannel tree
+    long cyclesCancelled = 0;     ///< flow cycles removed before tracing
+    int phases = 0;               ///< primal–dual phases of the least-resistance max flow
+    double flowResistance = 0;    ///< Σ resistance × |flow| of the solution
+};
+
+struct Stage1Result {
+    int zones = 0;                   ///< zones that hold at least one voxel
+    std::vector<long> zoneVoxels;    ///< voxels per source, scenario order
+    long protochannelVoxels = 0;     ///< voxels traced in all zones
+    std::vector<ZoneStats> perZone;  ///< one per source, scenario order
+    double seconds = 0;              ///< wall time of the whole stage
+    double zoneSeconds = 0;          ///< wall time of the zone division
+};
+
+/// Runs stage 1 on a freshly built domain: sets domain.zone (source index, −1 none), flags traced
+/// voxels kProtochannel, raises their porosity to stage1.protochannelPorosity (the paper's
+/// "display erosion"; porosity0 stays the initial rock). Deterministic for the rng state and any
+/// thread count.
+/// @throw InputError if a zone has more voxels than `[stage1] max_graph_voxels` (checked before
+///        any network is built)
+Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const ProgressFn& progress = {});
+
+/// The zone division alone (step 1): zone label per voxel (source index, −1 none).
+Grid3<std::int32_t> pressureZones(const Domain& domain, const Scenario& scenario);
+
+}  // namespace cavesim
