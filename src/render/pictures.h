@@ -1,0 +1,54 @@
+/// @file pictures.h
+/// @brief 2D figures of the voxel state: stage-1 zones, stage-2 pressure and flow, snapshots.
+///
+/// All figures use the frames of render/view.h: a 3D block is shown from above (plan view,
+/// x right, y up) and, where a figure has a second panel, from the front (x–z); a 2D section
+/// (ny = 1) is shown as itself (x right, z up), like the paper's Figures 8 and 9. Pictures of the
+/// same view and width line up with each other and with the ray-traced views of the cave.
+/// Sources are red circles (S1, S2, ... in scenario order), sinks blue squares; every figure has
+/// axes in metres, a scale bar and a legend or colour bar with values. No OpenVDB here.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "render/image.h"
+#include "sim/domain.h"
+
+namespace cavesim::render {
+
+/// The zones figure of stage 1 (paper §3.1, Figures 5 and 6): each source's pressure zone in its
+/// own colour (plan view: the zone holding most voxels of each column), protochannels drawn dark
+/// on top (projected from all depths), zone borders, sources and sinks, a legend with each zone's
+/// source, pressure and size. Written as PNG through a temporary file.
+/// @throw InputError if width is outside [64, 16384]; RuntimeError when the file cannot be written
+void writeZonesPicture(const Domain& domain, const std::string& path, int width);
+/// The zones figure as an image (writeZonesPicture without the file).
+Image zonesPicture(const Domain& domain, int width);
+
+/// imagesDir/pressure.png and imagesDir/flow.png. Pressure: the section (ny = 1) or, for a block,
+/// a horizontal slice at the depth holding most cave voxels above a vertical x–z slice at the y
+/// holding most; linear colour bar. Flow: the section, or the largest flow along each column
+/// (plan) and row (x–z); logarithmic colour bar over four decades. Cave voxels outlined.
+/// @throw InputError if width is outside [64, 16384]; RuntimeError when a file cannot be written
+void writeFieldPictures(const Domain& domain, const std::string& imagesDir, int width);
+/// The pressure and flow figures as images (writeFieldPictures without the files).
+Image pressurePicture(const Domain& domain, int width);
+Image flowPicture(const Domain& domain, int width);
+
+/// One stage-2 snapshot `width` pixels wide titled `title` (e.g. "iteration 120"). A section
+/// (ny = 1) is drawn like the paper's Figure 8: the porosity (channels dark) with, under it,
+/// pressure and flow. A block is drawn as a plan: the largest porosity of each column in greys
+/// with the cave coloured by the height of its top.
+/// @throw InputError if width is outside [64, 16384]
+Image stateFrame(const Domain& domain, const std::string& title, int width);
+
+/// Frames laid out in `rows` rows (filled left to right, top to bottom) with a small white gap,
+/// e.g. images/sequence.png with rows = 1.
+/// @throw InputError if `frames` is empty, a frame is empty or rows < 1
+Image composeStrip(const std::vector<Image>& frames, int rows);
+
+/// Stacks images top to bottom, each centred horizontally.
+Image stackVertically(const std::vector<Image>& images);
+
+}  // namespace cavesim::render

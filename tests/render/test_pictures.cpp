@@ -1,0 +1,215 @@
+// The 2D figures of the voxel state: sizes, colours where the data says, layout, PNG round trip.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "core/error.h"
+#include "render/colormap.h"
+#include "render/pictures.h"
+#include "render/png_io.h"
+#include "render/view.h"
+
+namespace cavesim::render {
+namespace {
+
+// A block with two zones (x < nx/2: source 0, else source 1), a protochannel along x at mid
+// height, a channel (the cave) along the same line in the right half, pressure = x, flow
+// decaying away from the channel.
+Domain twoZones(Dims dims) {
+    Domain d;
+    d.dims = dims;
+    d.voxelSize = 0.5;
+    d.flags = Grid3<std::uint8_t>(dims, 0);
+    d.zone = Grid3<std::int32_t>(dims, -1);
+    d.porosity = Grid3<float>(dims, 0.05f);
+    d.porosity0 = d.porosity;
+    d.pressure = Grid3<float>(dims, 0.f);
+    d.water = Grid3<float>(dims, 0.f);
+    d.flow = Grid3<float>(dims, 0.f);
+    const int jm = dims.ny / 2, km = dims.nz / 2;
+    for (int k = 0; k < dims.nz; ++k)
+        for (int j = 0; j < dims.ny; ++j)
+            for (int i = 0; i < dims.nx; ++i) {
+                d.zone.at(i, j, k) = i < dims.nx / 2 ? 0 : 1;
+                d.pressure.at(i, j, k) = float(i);
+                d.flow.at(i, j, k) = float(std::pow(10.0, -std::abs(k - km) - std::abs(j - jm)));
+                if (j == jm && k == km) {
+                    d.flags.at(i, j, k) |= kProtochannel;
+                    if (i >= dims.nx / 2) {
+                        d.flags.at(i, j, k) |= kChannel;
+                        d.porosity.at(i, j, k) = 1.f;
+                    }
+                }
+            }
+    d.sourceVoxels = {{dims.index(1, jm, km)}, {dims.index(dims.nx - 2, jm, km)}};
+    d.sourcePressure = {1.0, 2.0};
+    d.sinkVoxels = {{dims.index(dims.nx / 2, 0, 0)}};
+    for (const auto& s : d.sourceVoxels) d.flags[s[0]] |= kSource;
+    d.flags[d.sinkVoxels[0][0]] |= kSink;
+    return d;
+}
+
+Rgb at(const Image& img, const Frame& f, double u, double v) {
+    const auto p = f.camera.project(viewPlanePoint(f, u, v));
+    return img.get(int(p.x), int(p.y));
+}
+
+void expectReadable(const Image& img, int width) {
+    EXPECT_EQ(img.width, width);
+    EXPECT_GT(img.height, 50);
+    EXPECT_GT(pixelVariance(img), 100.0);
+    EXPECT_GE(distinctColours(img), 6u);
+}
+
+TEST(ZonesPicture, PlanShowsEachZoneItsProtochannelsAndSources) {
+    const Domain d = twoZones({30, 20, 6});
+    const int width = 600;
+    const Image img = zonesPicture(d, width);
+    expectReadable(img, width);
+    const Frame f = makeFrame(View::kPlan, d.dims, d.voxelSize, width, 2);  // same viewport
+    EXPECT_EQ(at(img, f, 5.5, 3.5), mix(zoneColour(0), colours::kWhite, 0.45));
+    EXPECT_EQ(at(img, f, 24.5, 16.5), mix(zoneColour(1), colours::kWhite, 0.45));
+    EXPECT_EQ(at(img, f, 8.5, 10.5), mix(zoneColour(0), colours::kBlack, 0.55));  // protochannel, zone 0
+    // Source S1 is marked in red at its voxel.
+    const auto s = f.camera.project({1.5 * d.voxelSize, 10.5 * d.voxelSize, 3.5 * d.voxelSize});
+    EXPECT_EQ(img.get(int(s.x), int(s.y)), colours::kSource);
+}
+
+TEST(ZonesPicture, SectionIsDrawnAsItself) {
+    const Domain d = twoZones({40, 1, 16});
+    const Image img = zonesPicture(d, 512);
+    expectReadable(img, 512);
+    const Frame f = makeFrame(View::kSideXZ, d.dims, d.voxelSize, 512, 2);
+    EXPECT_EQ(at(img, f, 3.5, 2.5), mix(zoneColour(0), colours::kWhite, 0.45));
+    EXPECT_EQ(at(img, f, 36.5, 2.5), mix(zoneColour(1), colours::kWhite, 0.45));
+}
+
+TEST(ZonesPicture, NoZonesStillGivesAPicture) {
+    Domain d = twoZones({12, 12, 4});
+    for (auto& z : d.zone.data) z = -1;
+    d.sourceVoxels.clear();
+    d.sourcePressure.clear();
+    expectReadable(zonesPicture(d, 256), 256);
+}
+
+TEST(FieldPictures, SectionPressureHasTheColourOfItsValue) {
+    const Domain d = twoZones({40, 1, 16});
+    const int width = 640;
+    const Image img = pressurePicture(d, width);
+    expectReadable(img, width);
+    const Frame f = makeFrame(View::kSideXZ, d.dims, d.voxelSize, width, 2);
+    // pressure = i on [0, 39]: linear colour bar from 0 to 39.
+    for (int i : {2, 20, 33}) EXPECT_EQ(at(img, f, i + 0.5, 2.5), viridis(i / 39.0)) << i;
+}
+
+TEST(FieldPictures, BlockPicturesHaveTwoPanelsAndLogFlow) {
+    const Domain d = twoZones({30, 20, 6});
+    const int width = 500;
+    const Image p = pressurePicture(d, width), fl = flowPicture(d, width);
+    expectReadable(p, width);
+    expectReadable(fl, width);
+    const Frame plan = makeFrame(View::kPlan, d.dims, d.voxelSize, width, 2);
+    const Frame side = makeFrame(View::kSideXZ, d.dims, d.voxelSize, width, 2);
+    EXPECT_EQ(p.height, plan.height + side.height);
+    // Flow: the largest value of each column; 1 on the channel line (the top of the log scale),
+    // 1e-4 and below shown as rock.
+    EXPECT_EQ(at(fl, plan, 3.5, 10.5), inferno(1.0));
+    EXPECT_EQ(at(fl, plan, 3.5, 4.5), mix(colours::kRock, colours::kWhite, 0.55));
+}
+
+TEST(FieldPictures, WithoutStage2DataTheyStillDraw) {
+    Domain d = twoZones({20, 1, 10});
+    for (auto& v : d.pressure.data) v = 0.f;
+    for (auto& v : d.flow.data) v = 0.f;
+    expectReadable(pressurePicture(d, 300), 300);
+    expectReadable(flowPicture(d, 300), 300);
+    d.pressure = Grid3<float>();  // absent grids read as zeros
+    expectReadable(pressurePicture(d, 300), 300);
+}
+
+TEST(StateFrame, SectionStacksPorosityPressureAndFlow) {
+    const Domain d = twoZones({40, 1, 16});
+    const int width = 480;
+    const Image img = stateFrame(d, "iteration 7", width);
+    const Frame f = makeFrame(View::kSideXZ, d.dims, d.voxelSize, width, 2);
+    EXPECT_EQ(img.width, width);
+    EXPECT_EQ(img.height, 3 * f.height);
+    // Channel voxels (porosity 1) are dark in the top panel, rock light.
+    EXPECT_LT(int(at(img, f, 30.5, 8.5).r), 60);
+    EXPECT_GT(int(at(img, f, 30.5, 2.5).r), 200);
+}
+
+TEST(StateFrame, BlockIsOnePlanPanel) {
+    const Domain d = twoZones({30, 20, 6});
+    const Image img = stateFrame(d, "iteration 1", 400);
+    const Frame f = makeFrame(View::kPlan, d.dims, d.voxelSize, 400, 2);
+    EXPECT_EQ(img.height, f.height);
+    expectReadable(img, 400);
+    // The cave (channel at k = 3 of nz = 6) coloured by the depth of its top.
+    EXPECT_EQ(at(img, f, 20.5, 10.5), depthRamp(2.0 / 5.0));
+}
+
+TEST(ComposeStrip, FramesSideBySideOrInRows) {
+    std::vector<Image> frames{Image(100, 50, Rgb{255, 0, 0}), Image(100, 50, Rgb{0, 255, 0}),
+                              Image(80, 40, Rgb{0, 0, 255})};
+    const Image strip = composeStrip(frames, 1);
+    const int gap = 4;
+    EXPECT_EQ(strip.width, 3 * 100 + 2 * gap);
+    EXPECT_EQ(strip.height, 50);
+    EXPECT_EQ(strip.get(10, 10), (Rgb{255, 0, 0}));
+    EXPECT_EQ(strip.get(100 + gap + 10, 10), (Rgb{0, 255, 0}));
+    EXPECT_EQ(strip.get(2 * (100 + gap) + 10, 10), (Rgb{0, 0, 255}));
+    const Image grid = composeStrip(frames, 2);
+    EXPECT_EQ(grid.width, 2 * 100 + gap);
+    EXPECT_EQ(grid.height, 2 * 50 + gap);
+    EXPECT_EQ(grid.get(10, 50 + gap + 10), (Rgb{0, 0, 255}));
+    EXPECT_THROW(composeStrip({}, 1), InputError);
+    EXPECT_THROW(composeStrip(frames, 0), InputError);
+    EXPECT_THROW(composeStrip({Image()}, 1), InputError);
+}
+
+TEST(Pictures, RejectBadWidths) {
+    const Domain d = twoZones({8, 8, 4});
+    EXPECT_THROW(zonesPicture(d, 10), InputError);
+    EXPECT_THROW(stateFrame(d, "x", 100000), InputError);
+}
+
+TEST(Png, RoundTripIsExactAndLeavesNoTemporaryFile) {
+    const auto dir = std::filesystem::temp_directory_path() / "cavesim_test_render_png";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    Image img(37, 23);
+    std::mt19937 rng(11);
+    for (auto& p : img.pixels) p = std::uint8_t(rng() & 255);
+    const std::string path = (dir / "a.png").string();
+    writePng(path, img);
+    const Image back = readPng(path);
+    EXPECT_EQ(back.width, 37);
+    EXPECT_EQ(back.height, 23);
+    EXPECT_EQ(back.pixels, img.pixels);
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1);
+    EXPECT_THROW(writePng((dir / "missing" / "b.png").string(), img), RuntimeError);
+    EXPECT_THROW(writePng(path, Image()), RuntimeError);
+    EXPECT_THROW(readPng((dir / "nothing.png").string()), RuntimeError);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Pictures, WrittenFilesHaveTheRequestedWidth) {
+    const auto dir = std::filesystem::temp_directory_path() / "cavesim_test_render_files";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const Domain d = twoZones({16, 12, 4});
+    writeZonesPicture(d, (dir / "zones.png").string(), 320);
+    writeFieldPictures(d, dir.string(), 320);
+    for (const char* name : {"zones.png", "pressure.png", "flow.png"}) {
+        const Image img = readPng((dir / name).string());
+        EXPECT_EQ(img.width, 320) << name;
+        EXPECT_GT(pixelVariance(img), 0.0) << name;
+    }
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cavesim::render
