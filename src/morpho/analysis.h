@@ -1,0 +1,36 @@
+/// @file analysis.h
+/// @brief The whole measurement of a cave (DESIGN §5): skeleton → network counts, morphometric
+/// indices (paper §4.2) and network metrics (Collon et al. 2017), in one call.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "morpho/graph_metrics.h"
+#include "morpho/morphometry.h"
+#include "morpho/network.h"
+#include "morpho/skeleton.h"
+#include "morpho/skeleton_io.h"  // writeSkeletonFiles, for callers
+#include "sim/domain.h"
+
+namespace cavesim::morpho {
+
+struct CaveAnalysis {
+    Skeleton skeleton;
+    NetworkCounts network;
+    Morphometry morphometry;
+    GraphMetrics metrics;
+    double seconds = 0;  ///< wall time of the analysis
+};
+
+/// Skeletonizes caveMask(domain) (sim/cave.h) and measures it. `connectedIteration`: the stage-2
+/// iteration at which each source joined a sink (scenario order; empty when unknown), used to
+/// tell a captured tributary from the channel that captured it.
+CaveAnalysis analyseCave(const Domain& domain, const std::vector<std::optional<int>>& connectedIteration = {},
+                         const SkeletonOptions& skeletonOptions = {});
+
+
+}  // namespace cavesim::morpho

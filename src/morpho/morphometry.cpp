@@ -1,0 +1,204 @@
+// Morphometric indices of the cave (paper §4.2, DESIGN §5). Conventions: morphometry.h.
+#include "morpho/morphometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/geometries/multi_point.hpp>
+#include <boost/geometry/geometries/point_xy.hpp>
+#include <boost/geometry/geometries/polygon.hpp>
+
+#include "core/error.h"
+#include "morpho/graph_metrics.h"
+
+namespace cavesim::morpho {
+namespace {
+
+constexpr std::array<CategoryRange, 14> kCategoryRanges{{
+    // Paper Table 2: Klimchouk (2006), optimised cave field.
+    {"unconfined", "network_density_opt", 2, 0.012, 0.023},
+    {"unconfined", "areal_coverage_pct_opt", 2, 3.77, 8.55},
+    {"unconfined", "porosity_pct_opt", 2, 0.15, 0.77},
+    {"unconfined", "mean_width_m", 2, 2.52, 4.56},
+    {"confined", "network_density_opt", 2, 0.049, 0.406},
+    {"confined", "areal_coverage_pct_opt", 2, 13.56, 58.51},
+    {"confined", "porosity_pct_opt", 2, 1.1, 12.0},
+    {"confined", "mean_width_m", 2, 0.65, 4.53},
+    // Paper Table 3: Frumkin & Fischhendler (2005), rectangular cave field.
+    {"chamber", "network_density_rect", 3, 0.01, 0.25},
+    {"chamber", "areal_coverage_pct_rect", 3, 20.0, 80.0},
+    {"chamber", "mean_width_m", 3, 2.0, 100.0},
+    {"confined", "network_density_rect", 3, 0.07, 0.35},
+    {"confined", "areal_coverage_pct_rect", 3, 10.0, 40.0},
+    {"confined", "mean_width_m", 3, 0.9, 8.0},
+}};
+
+double indexValue(const Morphometry& m, const std::string& index) {
+    if (index == "network_density_opt") return m.network_density_opt;
+    if (index == "network_density_rect") return m.network_density_rect;
+    if (index == "areal_coverage_pct_opt") return m.areal_coverage_pct_opt;
+    if (index == "areal_coverage_pct_rect") return m.areal_coverage_pct_rect;
+    if (index == "porosity_pct_opt") return m.porosity_pct_opt;
+    if (index == "porosity_pct_rect") return m.porosity_pct_rect;
+    if (index == "mean_width_m") return m.mean_width_m;
+    throw RuntimeError("morphometry: unknown index '" + index + "'");  // unreachable with kCategoryRanges
+}
+
+/// a / b, or 0 when b is 0 (an empty cave).
+double ratio(double a, double b) {
+    return b > 0.0 ? a / b : 0.0;
+}
+
+/// Area (in cell units) of the convex hull of the plan cells' corners. Only the first and the last
+/// cell of each row can put a corner on the hull, so 4 points per row suffice.
+double hullArea(const std::vector<int>& rowMin, const std::vector<int>& rowMax) {
+    namespace bg = boost::geometry;
+    using Point = bg::model::d2::point_xy<double>;
+    bg::model::multi_point<Point> corners;
+    for (std::size_t j = 0; j < rowMin.size(); ++j) {
+        if (rowMin[j] > rowMax[j]) continue;  // empty row
+        const double y0 = double(j), y1 = double(j) + 1.0;
+        const double x0 = double(rowMin[j]), x1 = double(rowMax[j]) + 1.0;
+        bg::append(corners, Point(x0, y0));
+        bg::append(corners, Point(x0, y1));
+        bg::append(corners, Point(x1, y0));
+        bg::append(corners, Point(x1, y1));
+    }
+    if (corners.empty()) return 0.0;
+    bg::model::polygon<Point> hull;
+    bg::convex_hull(corners, hull);
+    return std::abs(bg::area(hull));
+}
+
+}  // namespace
+
+Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize) {
+    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
+        throw InputError("morphometry: the voxel size must be a positive number of metres, got " +
+                         std::to_string(voxelSize));
+    const Dims d = mask.dims;
+    if (d.nx < 0 || d.ny < 0 || d.nz < 0)
+        throw InputError("morphometry: negative mask dimensions " + std::to_string(d.nx) + "×" + std::to_string(d.ny) +
+                         "×" + std::to_string(d.nz));
+    if (mask.data.size() != d.count())
+        throw InputError("morphometry: the mask holds " + std::to_string(mask.data.size()) + " values for " +
+                         std::to_string(d.nx) + "×" + std::to_string(d.ny) + "×" + std::to_string(d.nz) + " voxels");
+    validateSkeleton(skeleton);
+
+    Morphometry m;
+    const double h = voxelSize;
+    for (const auto& e : skeleton.edges) {
+        const auto& a = skeleton.nodes[std::size_t(e[0])].position;
+        const auto& b = skeleton.nodes[std::size_t(e[1])].position;
+        m.length_m +=
+            std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+    }
+
+    // Plan (columns), per-row extent, bounding box and vertical extent of the cave voxels.
+    std::vector<char> column(std::size_t(d.nx) * std::size_t(d.ny), 0);
+    std::vector<int> rowMin(std::size_t(d.ny), std::numeric_limits<int>::max());
+    std::vector<int> rowMax(std::size_t(d.ny), std::numeric_limits<int>::min());
+    int kMin = std::numeric_limits<int>::max(), kMax = std::numeric_limits<int>::min();
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                if (!mask.at(i, j, k)) continue;
+                ++m.cave_voxels;
+                kMin = std::min(kMin, k);
+                kMax = std::max(kMax, k);
+                char& c = column[std::size_t(i) + std::size_t(d.nx) * std::size_t(j)];
+                if (!c) {
+                    c = 1;
+                    ++m.plan_cells;
+                    rowMin[std::size_t(j)] = std::min(rowMin[std::size_t(j)], i);
+                    rowMax[std::size_t(j)] = std::max(rowMax[std::size_t(j)], i);
+                }
+            }
+    if (m.cave_voxels == 0) return m;  // no cave: every index stays 0 (a stray skeleton's length is kept)
+    int iMin = std::numeric_limits<int>::max(), iMax = std::numeric_limits<int>::min();
+    int jMin = std::numeric_limits<int>::max(), jMax = std::numeric_limits<int>::min();
+    for (int j = 0; j < d.ny; ++j) {
+        if (rowMin[std::size_t(j)] > rowMax[std::size_t(j)]) continue;
+        iMin = std::min(iMin, rowMin[std::size_t(j)]);
+        iMax = std::max(iMax, rowMax[std::size_t(j)]);
+        jMin = std::min(jMin, j);
+        jMax = std::max(jMax, j);
+    }
+
+    const double h2 = h * h;
+    m.area_m2 = double(m.plan_cells) * h2;
+    m.volume_m3 = double(m.cave_voxels) * h2 * h;
+    m.vertical_range_m = double(kMax - kMin + 1) * h;
+    m.a_field_rect_m2 = double(iMax - iMin + 1) * double(jMax - jMin + 1) * h2;
+    m.a_field_opt_m2 = hullArea(rowMin, rowMax) * h2;
+    m.v_block_rect_m3 = m.a_field_rect_m2 * m.vertical_range_m;
+    m.v_block_opt_m3 = m.a_field_opt_m2 * m.vertical_range_m;
+    m.network_density_rect = ratio(m.length_m, m.a_field_rect_m2);
+    m.network_density_opt = ratio(m.length_m, m.a_field_opt_m2);
+    m.areal_coverage_pct_rect = 100.0 * ratio(m.area_m2, m.a_field_rect_m2);
+    m.areal_coverage_pct_opt = 100.0 * ratio(m.area_m2, m.a_field_opt_m2);
+    m.porosity_pct_rect = 100.0 * ratio(m.volume_m3, m.v_block_rect_m3);
+    m.porosity_pct_opt = 100.0 * ratio(m.volume_m3, m.v_block_opt_m3);
+    m.mean_width_m = ratio(m.area_m2, m.length_m);
+    return m;
+}
+
+nlohmann::json toJson(const Morphometry& m) {
+    return nlohmann::json{
+        {"length_m", m.length_m},
+        {"area_m2", m.area_m2},
+        {"volume_m3", m.volume_m3},
+        {"a_field_rect_m2", m.a_field_rect_m2},
+        {"a_field_opt_m2", m.a_field_opt_m2},
+        {"v_block_rect_m3", m.v_block_rect_m3},
+        {"v_block_opt_m3", m.v_block_opt_m3},
+        {"network_density_opt", m.network_density_opt},
+        {"network_density_rect", m.network_density_rect},
+        {"areal_coverage_pct_opt", m.areal_coverage_pct_opt},
+        {"areal_coverage_pct_rect", m.areal_coverage_pct_rect},
+        {"porosity_pct_opt", m.porosity_pct_opt},
+        {"porosity_pct_rect", m.porosity_pct_rect},
+        {"mean_width_m", m.mean_width_m},
+        {"vertical_range_m", m.vertical_range_m},
+        {"cave_voxels", m.cave_voxels},
+        {"plan_cells", m.plan_cells},
+        {"field_opt_method", "convex_hull"},
+    };
+}
+
+const std::array<CategoryRange, 14>& categoryRanges() {
+    return kCategoryRanges;
+}
+
+CategoryVotes categoryVotes(const Morphometry& m) {
+    CategoryVotes v;
+    for (const auto& r : kCategoryRanges) {
+        const double x = indexValue(m, r.index);
+        if (!(x >= r.lo && x <= r.hi)) continue;
+        const std::string c = r.category;
+        if (c == "unconfined")
+            ++v.unconfined;
+        else if (c == "confined")
+            ++v.confined;
+        else
+            ++v.chamber;
+    }
+    return v;
+}
+
+std::string caveCategory(const Morphometry& m) {
+    const CategoryVotes v = categoryVotes(m);
+    const int best = std::max({v.unconfined, v.confined, v.chamber});
+    if (best == 0) return "none";
+    const int ties = (v.unconfined == best) + (v.confined == best) + (v.chamber == best);
+    if (ties > 1) return "mixed";
+    if (v.confined == best) return "confined";
+    if (v.unconfined == best) return "unconfined";
+    return "chamber";
+}
+
+}  // namespace cavesim::morpho

@@ -1,0 +1,101 @@
+/// @file morphometry.h
+/// @brief Morphometric indices of the cave (paper §4.2; Klimchouk 2006, Frumkin & Fischhendler 2005;
+/// DESIGN §5): length, plan area, volume, cave field A_field and block V_block, network density,
+/// areal coverage, porosity and mean passage width W, for a rectangular and an optimised field,
+/// and the cave category these indices point to (paper Tables 2 and 3).
+///
+/// Geometry, all in metres (the mask is in index space, z up; voxel (i, j, k) is the cube
+/// [i, i+1]·h × [j, j+1]·h × [k, k+1]·h):
+///  - plan: the set of columns (i, j) holding at least one cave voxel; area = cells · h².
+///  - length: total length of the skeleton's edges (its node positions, world space). A skeleton
+///    whose end nodes sit on end-voxel centres is shorter than the passage by about half a voxel per
+///    end; W = area / length then exceeds the passage width by that much.
+///  - volume = cave voxels · h³; vertical range = (k_max − k_min + 1) · h (cell faces).
+///  - A_field rect: the plan's bounding rectangle, taken on cell edges.
+///  - A_field opt: the convex hull of the plan cells' corners (Boost.Geometry). Klimchouk's
+///    optimised field is a polygon drawn tight around the cave plan; the convex hull is the tightest
+///    polygon that needs no free parameter (a concave hull needs a length scale that would change
+///    the index from run to run and between caves), it is what Klimchouk's hand-drawn contour
+///    converges to for compact networks, and it never exceeds the rectangle.
+///  - V_block = A_field · vertical range; network density = length / A_field (m/m²);
+///    areal coverage = 100 · area / A_field (%); porosity = 100 · volume / V_block (%);
+///    W = area / length (m).
+/// An empty mask gives zeros everywhere; a ratio whose denominator is 0 is reported as 0.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/grid.h"
+#include "morpho/skeleton_graph.h"
+
+namespace cavesim::morpho {
+
+/// The `report.json` "morphometry" values (DESIGN §4 names) and supporting values.
+struct Morphometry {
+    double length_m = 0.0;                 ///< total skeleton length, m
+    double area_m2 = 0.0;                  ///< plan area, m²
+    double volume_m3 = 0.0;                ///< cave volume, m³
+    double a_field_rect_m2 = 0.0;          ///< bounding rectangle of the plan, m²
+    double a_field_opt_m2 = 0.0;           ///< convex hull of the plan, m²
+    double v_block_rect_m3 = 0.0;          ///< a_field_rect · vertical range, m³
+    double v_block_opt_m3 = 0.0;           ///< a_field_opt · vertical range, m³
+    double network_density_opt = 0.0;      ///< length / a_field_opt, m/m²
+    double network_density_rect = 0.0;     ///< length / a_field_rect, m/m²
+    double areal_coverage_pct_opt = 0.0;   ///< 100 · area / a_field_opt, %
+    double areal_coverage_pct_rect = 0.0;  ///< 100 · area / a_field_rect, %
+    double porosity_pct_opt = 0.0;         ///< 100 · volume / v_block_opt, %
+    double porosity_pct_rect = 0.0;        ///< 100 · volume / v_block_rect, %
+    double mean_width_m = 0.0;             ///< W = area / length, m (0 when the length is 0)
+    double vertical_range_m = 0.0;         ///< (k_max − k_min + 1) · h over the cave voxels, m
+    long cave_voxels = 0;                  ///< voxels of the mask that are cave (non-zero)
+    long plan_cells = 0;                   ///< columns (i, j) with at least one cave voxel
+};
+
+/// The morphometric indices of a cave.
+/// @param mask       cave voxels (non-zero = cave), index space, z up
+/// @param skeleton   the cave's centreline, positions in metres (world space); only its edge lengths are used
+/// @param voxelSize  edge of a voxel, metres, > 0
+/// @throw cavesim::InputError on a non-positive or non-finite voxel size, a mask whose data does not
+///        match its dims, or an invalid skeleton (see `validateSkeleton`)
+Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize);
+
+/// The DESIGN §4 keys plus "vertical_range_m", "cave_voxels", "plan_cells" and
+/// "field_opt_method" ("convex_hull").
+nlohmann::json toJson(const Morphometry& m);
+
+/// One value range of a cave category: paper Table 2 (Klimchouk 2006, optimised field) or
+/// Table 3 (Frumkin & Fischhendler 2005, rectangular field).
+struct CategoryRange {
+    const char* category;  ///< "unconfined", "confined" or "chamber"
+    const char* index;     ///< Morphometry member compared: network_density_opt, areal_coverage_pct_rect, …
+    int table;             ///< 2 or 3 (paper table)
+    double lo, hi;         ///< inclusive bounds, in the index's unit
+};
+
+/// The 14 ranges of the paper's Tables 2 and 3 (Table 2: 4 indices × unconfined/confined on the
+/// optimised field; Table 3: 3 indices × chamber/confined on the rectangular field).
+const std::array<CategoryRange, 14>& categoryRanges();
+
+/// How many of the category's ranges (`categoryRanges`) hold the cave's value.
+struct CategoryVotes {
+    int unconfined = 0;  ///< of 4 (Table 2)
+    int confined = 0;    ///< of 7 (Table 2: 4, Table 3: 3)
+    int chamber = 0;     ///< of 3 (Table 3)
+};
+
+/// Counts, for each category, the indices that fall inside its ranges.
+CategoryVotes categoryVotes(const Morphometry& m);
+
+/// The category the indices point to: the one with the most votes (`categoryVotes`); "mixed" when
+/// two or more share the largest count, "none" when no index falls in any range (e.g. an empty cave).
+/// Confined caves are described by both tables, so "confined" can collect up to 7 votes against 4
+/// (unconfined) and 3 (chamber): the rule reads the two tables together as the paper does (§4.2:
+/// Figures 10–12 "fit well into the confined category") and gives "confined" for all three caves of
+/// the paper's Table 4.
+std::string caveCategory(const Morphometry& m);
+
+}  // namespace cavesim::morpho

@@ -1,0 +1,70 @@
+/// @file network.h
+/// @brief Events of channel linkage read off the cave skeleton: sources connected to a sink,
+/// confluences, tributary captures and phreatic loops (Pytel & Mann, JCGT 2015, §2.2, §3.2).
+///
+/// The skeleton is oriented by pressure: water flows from a node to a neighbour of lower
+/// pressure. Exact definitions, with the reasons for each choice: docs/network-definitions.md.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/grid.h"
+#include "morpho/skeleton_graph.h"
+
+namespace cavesim::morpho {
+
+/// What the network analysis needs of a run, in index space.
+struct NetworkInput {
+    Dims dims;
+    double voxelSize = 0;  ///< metres; > 0: elevations from the smoothed node positions, else from node voxels
+    const Grid3<std::uint8_t>* cave = nullptr;   ///< cave voxels (1) — the mask the skeleton was made from
+    const Grid3<float>* pressure = nullptr;      ///< stage-2 pressure; nullptr when there was no stage 2
+    std::vector<std::vector<std::size_t>> sources;  ///< voxels of each source, scenario order
+    std::vector<std::vector<std::size_t>> sinks;    ///< voxels of each sink, scenario order
+    /// Iteration at which each source was first joined to a sink during stage 2 (scenario order);
+    /// decides which of two merging channels is the tributary. Empty or null entries: unknown.
+    std::vector<std::optional<int>> connectedIteration;
+};
+
+struct NetworkOptions {
+    /// A phreatic loop: along a flow path, a descent followed by a rise of at least this many
+    /// voxels (index units, z). DESIGN §2: 2.
+    double loopRise = 2;
+    /// How far a terminal (source or sink) may be from the skeleton, measured through cave
+    /// voxels (26-connected steps, index units), for the two to be joined.
+    int attachDistance = 6;
+};
+
+/// The flow path of one source: skeleton nodes from the source to a sink, pressure decreasing.
+struct FlowPath {
+    int source = 0;                 ///< scenario index
+    std::optional<int> sink;        ///< scenario index of the sink reached; empty: not connected
+    std::vector<int> nodes;         ///< skeleton node indices, source end first
+    bool downhill = true;           ///< false when no strictly downhill path existed (fallback used)
+    std::vector<int> loopTroughs;   ///< skeleton nodes at the bottom of each phreatic loop on the path
+    std::optional<int> capturedBy;  ///< the source whose channel this one joined before the sink
+    std::optional<int> joinNode;    ///< where it joined that channel
+};
+
+struct NetworkCounts {
+    int sourcesTotal = 0;
+    int sourcesConnected = 0;   ///< sources with a flow path to a sink
+    int confluences = 0;        ///< distinct nodes where the flow paths of different sources first meet
+    int tributaryCaptures = 0;  ///< sources whose channel joins an earlier-connected source's channel before a sink
+    int phreaticLoops = 0;      ///< distinct loop troughs over all flow paths
+    std::vector<FlowPath> paths;  ///< one per source, scenario order
+};
+
+/// Analyses the skeleton of a cave. Never throws for an empty cave or skeleton (all counts 0).
+/// @throw std::invalid_argument if the grids do not match `dims`
+NetworkCounts analyseNetwork(const Skeleton& skeleton, const NetworkInput& input, const NetworkOptions& options = {});
+
+/// report.json "network": sources_total, sources_connected, confluences, tributary_captures,
+/// phreatic_loops, and per-source details under "paths".
+nlohmann::json toJson(const NetworkCounts& counts, const Skeleton& skeleton);
+
+}  // namespace cavesim::morpho
