@@ -18,11 +18,12 @@ void BM_EikonalFullSolve(benchmark::State& state) {
     const std::vector<Seed> seeds{{kDims.index(57, 30, 2), 0.0, 0}};
     for (auto _ : state) {
         EikonalField f;
-        f.solve(kDims, s, seeds, 1e9);
+        f.solve(kDims, s, seeds, 1e9, Stencil(state.range(0)));
         benchmark::DoNotOptimize(f.value().data.data());
     }
 }
-BENCHMARK(BM_EikonalFullSolve)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Arg 0: face-neighbour fast marching (kFace6); 1: the stage-2 avalanche stencil (kAvalanche26).
+BENCHMARK(BM_EikonalFullSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_EikonalDecrease(benchmark::State& state) {
     Grid3<float> s(kDims, 0.5f);
@@ -32,7 +33,7 @@ void BM_EikonalDecrease(benchmark::State& state) {
     for (auto _ : state) {
         state.PauseTiming();
         EikonalField f;
-        f.solve(kDims, s, seeds, 1e9);
+        f.solve(kDims, s, seeds, 1e9, Stencil(state.range(1)));
         Grid3<float> t = s;
         std::vector<std::size_t> changed;
         for (int c = 0; c < int(state.range(0)); ++c) {
@@ -44,7 +45,13 @@ void BM_EikonalDecrease(benchmark::State& state) {
         benchmark::DoNotOptimize(f.decrease(t, changed));
     }
 }
-BENCHMARK(BM_EikonalDecrease)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EikonalDecrease)
+    ->Args({10, 0})
+    ->Args({100, 0})
+    ->Args({10, 1})
+    ->Args({100, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_ThreeLabelledFronts(benchmark::State& state) {
     const std::vector<Seed> seeds{{kDims.index(5, 10, 15), 0, 0}, {kDims.index(10, 50, 15), 0, 1},

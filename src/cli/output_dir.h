@@ -1,0 +1,41 @@
+/// @file output_dir.h
+/// @brief An output directory that appears complete or not at all.
+///
+/// Everything is written into a hidden staging directory beside the target; `commit()` renames it
+/// into place (replacing an old directory only when `force` was given). If the run fails, the
+/// staging directory is removed and the target is left exactly as it was.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace cavesim::cli {
+
+class OutputDir {
+public:
+    /// Checks the target before any work starts.
+    /// @throw InputError if `target` exists, is not empty and `force` is false, or is not a directory
+    OutputDir(std::filesystem::path target, bool force);
+    ~OutputDir();
+    OutputDir(const OutputDir&) = delete;
+    OutputDir& operator=(const OutputDir&) = delete;
+
+    /// Creates the staging directory (call once the run is about to write).
+    void open();
+    /// Path of a file inside the staging directory (subdirectories are created).
+    std::filesystem::path file(const std::string& relative) const;
+    /// Moves the staging directory into place.
+    /// @throw RuntimeError on a file-system failure (the target is then unchanged)
+    void commit();
+
+    const std::filesystem::path& target() const { return target_; }
+
+private:
+    std::filesystem::path target_, staging_;
+    bool force_ = false, committed_ = false;
+};
+
+/// Writes `text` to `path` (inside a staging directory, so no further atomicity is needed).
+void writeTextFile(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace cavesim::cli

@@ -1,0 +1,376 @@
+#include "cli/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "mesh/cave_mesh.h"
+#include "morpho/analysis.h"
+
+namespace fs = std::filesystem;
+
+namespace cavesim::cli {
+namespace {
+
+/// FNV-1a over the bytes of a grid: identical grids, identical checksums (determinism checks).
+template <typename T>
+std::string checksum(const Grid3<T>& g) {
+    std::uint64_t h = 1469598103934665603ull;
+    const auto* p = reinterpret_cast<const unsigned char*>(g.data.data());
+    for (std::size_t b = 0; b < g.data.size() * sizeof(T); ++b) h = (h ^ p[b]) * 1099511628211ull;
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+    return buf;
+}
+
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json stage1Json(const Stage1Result& r) {
+    nlohmann::json zones = nlohmann::json::array();
+    for (const ZoneStats& z : r.perZone) {
+        zones.push_back({{"source", z.source},
+                         {"voxels", z.voxels},
+                         {"graph_nodes", z.graphNodes},
+                         {"graph_edges", z.graphEdges},
+                         {"graph_bytes", z.graphBytes},
+                         {"max_flow", num(z.maxFlow)},
+                         {"protosinks", z.protosinks},
+                         {"protosinks_with_flow", z.protosinksWithFlow},
+                         {"protochannel_voxels", z.protochannelVoxels},
+                         {"branches", z.branches},
+                         {"cycles_cancelled", z.cyclesCancelled},
+                         {"flow_phases", z.phases},
+                         {"flow_resistance", num(z.flowResistance)},
+                         {"seconds", num(z.seconds)}});
+    }
+    return {{"zones", r.zones},
+            {"zone_voxels", r.zoneVoxels},
+            {"protochannel_voxels", r.protochannelVoxels},
+            {"per_zone", zones},
+            {"seconds_zones", num(r.zoneSeconds)},
+            {"seconds", num(r.seconds)}};
+}
+
+nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
+    nlohmann::json hist = nlohmann::json::array();
+    for (const Stage2Record& h : r.history) {
+        hist.push_back({{"iteration", h.iteration},
+                        {"injected", num(h.injected)},
+                        {"drained", num(h.drained)},
+                        {"stored", num(h.stored)},
+                        {"flow", num(h.flow)},
+                        {"eroded_m3", num(h.eroded * voxelVolume)},
+                        {"channel_voxels", h.channelVoxels},
+                        {"pressure_updates", h.pressureUpdates},
+                        {"sources_connected", h.sourcesConnected},
+                        {"balance_error", num(h.balanceError)}});
+    }
+    nlohmann::json perSource = nlohmann::json::array();
+    for (const auto& it : r.sourceConnectedIteration)
+        perSource.push_back(it ? nlohmann::json(*it) : nlohmann::json(nullptr));
+    return {{"iterations", r.iterations},
+            {"breakthrough_iteration",
+             r.breakthroughIteration ? nlohmann::json(*r.breakthroughIteration) : nlohmann::json(nullptr)},
+            {"source_connected_iteration", perSource},
+            {"water_balance_rel_error", num(r.waterBalanceRelError)},
+            {"water_injected", num(r.totalInjected)},
+            {"water_drained", num(r.totalDrained)},
+            {"pressure_cap", num(r.pressureCap)},
+            {"seconds_pressure", num(r.pressureSeconds)},
+            {"seconds_transport", num(r.transportSeconds)},
+            {"seconds_erosion", num(r.erosionSeconds)},
+            {"history", hist}};
+}
+
+// ---- report.md ---------------------------------------------------------------------------------
+
+std::string fmt(const nlohmann::json& v, int digits = 3) {
+    if (v.is_null()) return "–";
+    if (v.is_boolean()) return v.get<bool>() ? "yes" : "no";
+    if (v.is_number_integer()) return std::to_string(v.get<long long>());
+    if (v.is_number()) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.*g", digits, v.get<double>());
+        return buf;
+    }
+    if (v.is_string()) return v.get<std::string>();
+    return v.dump();
+}
+
+const nlohmann::json& at(const nlohmann::json& j, const std::string& a, const std::string& b = "") {
+    static const nlohmann::json null;
+    if (!j.is_object() || !j.contains(a)) return null;
+    if (b.empty()) return j.at(a);
+    const auto& x = j.at(a);
+    return x.is_object() && x.contains(b) ? x.at(b) : null;
+}
+
+struct Range {
+    double lo, hi;
+};
+std::string rangeText(Range r) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g – %g", r.lo, r.hi);
+    return buf;
+}
+std::string inRange(const nlohmann::json& v, Range r) {
+    if (!v.is_number()) return "";
+    const double x = v.get<double>();
+    return x >= r.lo && x <= r.hi ? " ✓" : " ✗";
+}
+
+/// Paper Table 2 (Klimchouk 2006, optimised fields) and Table 3 (Frumkin & Fischhendler 2005,
+/// rectangular fields).
+struct IndexRow {
+    const char* label;
+    const char* key;   ///< without the _opt / _rect suffix
+    Range unconfined, confined;      // Table 2
+    Range chamberFF, confinedFF;     // Table 3 (porosity: not given, {0,0})
+};
+const IndexRow kIndexRows[] = {
+    {"network density (m/m²)", "network_density", {0.012, 0.023}, {0.049, 0.406}, {0.01, 0.25}, {0.07, 0.35}},
+    {"areal coverage (%)", "areal_coverage_pct", {3.77, 8.55}, {13.56, 58.51}, {20, 80}, {10, 40}},
+    {"porosity (%)", "porosity_pct", {0.15, 0.77}, {1.1, 12}, {0, 0}, {0, 0}},
+    {"W (m)", "mean_width_m", {2.52, 4.56}, {0.65, 4.53}, {2, 100}, {0.9, 8.0}},
+};
+
+/// Real-cave ranges of Collon et al. 2017 over 34 surveyed networks (DESIGN §5).
+struct MetricRow {
+    const char* key;
+    const char* meaning;
+    Range real;
+};
+const MetricRow kMetricRows[] = {
+    {"h_or", "orientation entropy", {0.75, 1.00}},
+    {"len_mean_m", "mean branch length (m)", {8.46, 331.74}},
+    {"cv_len", "branch length variation", {0.90, 2.56}},
+    {"h_len", "length entropy", {0.07, 0.67}},
+    {"k_mean", "mean degree", {1.75, 2.57}},
+    {"r_k", "degree assortativity", {-0.56, -0.15}},
+    {"spl", "mean shortest path (hops)", {2.32, 55.72}},
+    {"cpd", "central point dominance", {0.02, 0.57}},
+    {"tortuosity", "tortuosity", {1.12, 1.54}},
+};
+
+/// Paper Table 4 (its own caves, optimised field; rectangular in parentheses) and Table 5 timings.
+struct PaperCave {
+    const char* name;
+    double density[2], coverage[2], porosity[2], width;
+    const char* stage1Time;
+    const char* stage2Time;
+};
+const PaperCave kPaperCaves[] = {
+    {"fig10", {0.317, 0.122}, {46.51, 17.94}, {5.59, 2.16}, 2.28, "1 min 43 s", "22 min 30 s"},
+    {"fig11", {0.462, 0.179}, {77.54, 30.05}, {8.74, 3.39}, 1.95, "1 min 3 s", "9 min 39 s"},
+    {"fig12", {0.277, 0.105}, {63.66, 24.05}, {14.06, 5.31}, 3.33, "4 min 6 s", "12 min 41 s"},
+};
+
+}  // namespace
+
+nlohmann::json meshJson(const mesh::MeshStats& m) {
+    return {{"vertices", m.vertices},         {"faces", m.faces},
+            {"area_m2", num(m.areaM2)},       {"volume_m3", num(m.volumeM3)},
+            {"euler_characteristic", m.eulerCharacteristic},
+            {"closed", m.closed},             {"manifold", m.manifold},
+            {"components", m.components},     {"seconds", num(m.seconds)}};
+}
+
+nlohmann::json analysisJson(const morpho::CaveAnalysis& a) {
+    nlohmann::json j;
+    j["network"] = morpho::toJson(a.network, a.skeleton);
+    j["morphometry"] = morpho::toJson(a.morphometry);
+    j["graph_metrics"] = morpho::toJson(a.metrics);
+    j["skeleton"] = {{"nodes", a.skeleton.nodes.size()}, {"edges", a.skeleton.edges.size()}};
+    j["cave_category"] = morpho::caveCategory(a.morphometry);
+    j["seconds"] = num(a.seconds);
+    return j;
+}
+
+nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec) {
+    nlohmann::json j;
+    j["scenario"] = s.name;
+    j["grid"] = {s.size[0], s.size[1], s.size[2]};
+    j["voxel_size_m"] = s.voxelSize;
+    j["seed"] = s.seed;
+    j["threads"] = rec.threads;
+    j["timing_s"] = {{"stage1", num(rec.timing.stage1)},
+                     {"stage2", num(rec.timing.stage2)},
+                     {"mesh", num(rec.timing.mesh)},
+                     {"report", num(rec.timing.report)},
+                     {"total", num(rec.timing.total)}};
+    j["stage1"] = rec.stage1 ? stage1Json(*rec.stage1) : nlohmann::json(nullptr);
+    j["stage2"] =
+        rec.stage2 ? stage2Json(*rec.stage2, s.voxelSize * s.voxelSize * s.voxelSize) : nlohmann::json(nullptr);
+    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
+        j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
+    j["mesh"] = rec.mesh;
+    j["checksums"] = {{"porosity", checksum(dom.porosity)},
+                      {"pressure", checksum(dom.pressure)},
+                      {"flow", checksum(dom.flow)},
+                      {"zone", checksum(dom.zone)},
+                      {"flags", checksum(dom.flags)}};
+    return j;
+}
+
+std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, const std::string& dir) {
+    std::ostringstream md;
+    md << "# cavesim report: " << s.name << "\n\n";
+    md << "Scenario `" << s.name << "` from `" << s.path << "`: grid " << s.size[0] << " × " << s.size[1] << " × "
+       << s.size[2] << " voxels of " << s.voxelSize << " m (" << s.size[0] * s.voxelSize << " × "
+       << s.size[1] * s.voxelSize << " × " << s.size[2] * s.voxelSize << " m), seed " << s.seed << ", "
+       << fmt(r.value("threads", nlohmann::json(1))) << " thread(s); " << s.sources.size() << " source(s), "
+       << s.sinks.size() << " sink(s), " << s.spheres.size() << " obstacle(s), " << s.planes.size()
+       << " plane(s), " << s.channels.size() << " given channel(s).\n\n";
+
+    md << "## Parameters\n\n| stage | parameter | value |\n|---|---|---|\n";
+    md << "| rock | porosity | " << s.rockPorosity << " |\n";
+    md << "| rock | noise amplitude, scale | " << s.noise.amplitude << ", " << s.noise.scale << " |\n";
+    md << "| stage 1 | enabled | " << (s.stage1.enabled ? "yes" : "no") << " |\n";
+    if (s.stage1.enabled) {
+        md << "| stage 1 | protosinks | " << s.stage1.protosinks;
+        if (s.stage1.protosinks == "clustered") md << " (" << s.stage1.clusters << " clusters)";
+        md << " |\n| stage 1 | zone front speed | " << s.stage1.permeability << " |\n";
+    }
+    md << "| stage 2 | enabled | " << (s.stage2.enabled ? "yes" : "no") << " |\n";
+    if (s.stage2.enabled) {
+        md << "| stage 2 | iterations | " << s.stage2.iterations << " |\n";
+        md << "| stage 2 | P_rate : P_rate_channel | " << s.stage2.pRate << " : " << s.stage2.pRateChannel << " |\n";
+        md << "| stage 2 | w0, wa, m | " << s.stage2.w0 << ", " << s.stage2.wa << ", " << s.stage2.m << " |\n";
+        md << "| stage 2 | channel threshold | " << s.stage2.channelThreshold << " |\n";
+        md << "| stage 2 | protochannel, source porosity | " << s.stage2.protochannelPorosity << ", "
+           << s.stage2.sourcePorosity << " |\n";
+        md << "| stage 2 | transport weight | " << s.stage2.weight << " |\n";
+    }
+
+    const PaperCave* paper = nullptr;
+    for (const PaperCave& p : kPaperCaves)
+        if (s.name == p.name) paper = &p;
+
+    md << "\n## Timings\n\n| phase | seconds |" << (paper ? " paper (Table 5) |" : "") << "\n|---|---|"
+       << (paper ? "---|" : "") << "\n";
+    const auto& t = at(r, "timing_s");
+    md << "| stage 1 | " << fmt(at(t, "stage1")) << " |" << (paper ? std::string(" ") + paper->stage1Time + " |" : "")
+       << "\n";
+    md << "| stage 2 | " << fmt(at(t, "stage2")) << " |" << (paper ? std::string(" ") + paper->stage2Time + " |" : "")
+       << "\n";
+    md << "| mesh and pictures | " << fmt(at(t, "mesh")) << " |" << (paper ? " – |" : "") << "\n";
+    md << "| skeleton and report | " << fmt(at(t, "report")) << " |" << (paper ? " – |" : "") << "\n";
+    md << "| total | " << fmt(at(t, "total")) << " |" << (paper ? " – |" : "") << "\n";
+
+    md << "\n## Events\n\n";
+    const auto& st1 = at(r, "stage1");
+    if (!st1.is_null()) {
+        md << "- Stage 1: " << fmt(at(st1, "zones")) << " pressure zone(s), voxels per source "
+           << at(st1, "zone_voxels").dump() << ", " << fmt(at(st1, "protochannel_voxels")) << " protochannel voxels.\n";
+    }
+    const auto& st2 = at(r, "stage2");
+    if (!st2.is_null()) {
+        md << "- Stage 2: " << fmt(at(st2, "iterations")) << " iterations; breakthrough at iteration "
+           << fmt(at(st2, "breakthrough_iteration")) << "; iteration at which each source joined a sink: "
+           << at(st2, "source_connected_iteration").dump() << ".\n";
+        md << "- Water balance: injected " << fmt(at(st2, "water_injected"), 6) << ", drained "
+           << fmt(at(st2, "water_drained"), 6) << ", relative error " << fmt(at(st2, "water_balance_rel_error"), 2)
+           << ".\n";
+    }
+    const auto& net = at(r, "network");
+    if (!net.is_null()) {
+        md << "- Network (on the skeleton, oriented by pressure; definitions in docs/network-definitions.md): "
+           << fmt(at(net, "sources_connected")) << " of " << fmt(at(net, "sources_total"))
+           << " sources connected to a sink, " << fmt(at(net, "confluences")) << " confluence(s), "
+           << fmt(at(net, "tributary_captures")) << " tributary capture(s), " << fmt(at(net, "phreatic_loops"))
+           << " phreatic loop(s).\n";
+    }
+    const auto& mesh = at(r, "mesh");
+    if (!mesh.is_null()) {
+        md << "- Mesh: " << fmt(at(mesh, "vertices")) << " vertices, " << fmt(at(mesh, "faces")) << " faces, "
+           << fmt(at(mesh, "components")) << " component(s), closed " << fmt(at(mesh, "closed")) << ", manifold "
+           << fmt(at(mesh, "manifold")) << " (`cave.obj`, `cave.ply`).\n";
+    }
+
+    md << "\n## Pictures\n\n";
+    const std::pair<const char*, const char*> pictures[] = {
+        {"perspective.png", "perspective"}, {"plan.png", "plan (from above)"},
+        {"side_xz.png", "side (x–z)"},      {"side_yz.png", "side (y–z)"},
+        {"zones.png", "stage-1 zones and protochannels"},
+        {"pressure.png", "stage-2 pressure"}, {"flow.png", "stage-2 flow"},
+        {"sequence.png", "stage-2 snapshots"}};
+    for (const auto& [file, caption] : pictures)
+        if (fs::exists(fs::path(dir) / "images" / file)) md << "![" << caption << "](images/" << file << ")\n\n";
+
+    const auto& mo = at(r, "morphometry");
+    if (!mo.is_null()) {
+        md << "## Morphometric indices (paper §4.2)\n\n";
+        md << "Cave length " << fmt(at(mo, "length_m")) << " m, plan area " << fmt(at(mo, "area_m2")) << " m², volume "
+           << fmt(at(mo, "volume_m3")) << " m³; cave field " << fmt(at(mo, "a_field_opt_m2"))
+           << " m² (convex hull of the plan) and " << fmt(at(mo, "a_field_rect_m2"))
+           << " m² (bounding rectangle). Category: **" << fmt(at(r, "cave_category")) << "**.\n\n";
+        md << "| index | ours (hull) | ours (rect.) | unconfined (Tab. 2) | confined (Tab. 2) | chamber (Tab. 3) | "
+              "confined (Tab. 3) |"
+           << (paper ? " paper's cave (Tab. 4) |" : "") << "\n|---|---|---|---|---|---|---|" << (paper ? "---|" : "")
+           << "\n";
+        int row = 0;
+        for (const IndexRow& x : kIndexRows) {
+            const bool width = std::string(x.key) == "mean_width_m";
+            const nlohmann::json& opt = width ? at(mo, x.key) : at(mo, std::string(x.key) + "_opt");
+            const nlohmann::json& rect = width ? at(mo, x.key) : at(mo, std::string(x.key) + "_rect");
+            md << "| " << x.label << " | " << fmt(opt) << inRange(opt, x.confined) << " | " << fmt(rect)
+               << inRange(rect, x.confinedFF) << " | " << rangeText(x.unconfined) << " | " << rangeText(x.confined)
+               << " | " << (x.chamberFF.hi > 0 ? rangeText(x.chamberFF) : "–") << " | "
+               << (x.confinedFF.hi > 0 ? rangeText(x.confinedFF) : "–") << " |";
+            if (paper) {
+                char buf[64];
+                if (row == 3)
+                    std::snprintf(buf, sizeof buf, "%g", paper->width);
+                else {
+                    const double* v = row == 0 ? paper->density : row == 1 ? paper->coverage : paper->porosity;
+                    std::snprintf(buf, sizeof buf, "%g (%g)", v[0], v[1]);
+                }
+                md << " " << buf << " |";
+            }
+            md << "\n";
+            ++row;
+        }
+        md << "\n✓/✗: inside/outside the confined range (hull column against Table 2, rectangle column against "
+              "Table 3).\n";
+    }
+
+    const auto& gm = at(r, "graph_metrics");
+    if (!gm.is_null()) {
+        md << "\n## Network metrics (Collon et al. 2017)\n\n| metric | meaning | ours | real caves (34 networks) |\n"
+              "|---|---|---|---|\n";
+        for (const MetricRow& m : kMetricRows)
+            md << "| `" << m.key << "` | " << m.meaning << " | " << fmt(at(gm, m.key)) << inRange(at(gm, m.key), m.real)
+               << " | " << rangeText(m.real) << " |\n";
+    }
+    md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
+          "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`.\n";
+    return md.str();
+}
+
+void writeFileAtomic(const std::string& path, const std::string& text) {
+    const fs::path target(path);
+    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw RuntimeError("cannot write " + tmp.string());
+        out << text;
+        if (!out) throw RuntimeError("cannot write " + tmp.string());
+    }
+    std::error_code ec;
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw RuntimeError("cannot rename " + tmp.string() + " to " + target.string());
+    }
+}
+
+void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir) {
+    rec.json = buildReportJson(s, dom, rec);
+    writeFileAtomic((fs::path(dir) / "report.json").string(), rec.json.dump(2) + "\n");
+    writeFileAtomic((fs::path(dir) / "report.md").string(), buildReportMarkdown(s, rec.json, dir));
+}
+
+}  // namespace cavesim::cli

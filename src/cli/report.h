@@ -1,0 +1,57 @@
+/// @file report.h
+/// @brief report.json and report.md: what was simulated, what happened, and how the cave measures.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/output_dir.h"
+#include "sim/domain.h"
+#include "sim/scenario.h"
+#include "sim/stage1.h"
+#include "sim/stage2.h"
+
+namespace cavesim::mesh {
+struct MeshStats;
+}
+namespace cavesim::morpho {
+struct CaveAnalysis;
+}
+
+namespace cavesim::cli {
+
+struct Timing {
+    double stage1 = 0, stage2 = 0, mesh = 0, report = 0, total = 0;
+};
+
+/// What a run produced besides the grids.
+struct RunRecord {
+    int threads = 1;
+    std::optional<Stage1Result> stage1;
+    std::optional<Stage2Result> stage2;
+    Timing timing;
+    nlohmann::json mesh;      ///< mesh statistics (null when no mesh was written)
+    nlohmann::json analysis;  ///< {network, morphometry, graph_metrics, skeleton, category}
+    nlohmann::json json;      ///< filled by writeReport: the report.json document
+};
+
+nlohmann::json meshJson(const mesh::MeshStats& stats);
+/// network, morphometry, graph_metrics, skeleton summary and cave category of an analysis.
+nlohmann::json analysisJson(const morpho::CaveAnalysis& analysis);
+
+/// The report.json document (DESIGN §4 keys).
+nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec);
+
+/// The human report: parameters, timings, events, pictures, indices beside the paper's ranges.
+/// `dir` is used only to see which pictures exist.
+std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& report, const std::string& dir);
+
+/// Writes report.json and report.md into `dir` (each through a temporary name and a rename).
+void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir);
+
+/// Writes `text` to `path` through a temporary file in the same directory and a rename.
+void writeFileAtomic(const std::string& path, const std::string& text);
+
+}  // namespace cavesim::cli

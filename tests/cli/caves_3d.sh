@@ -1,0 +1,25 @@
+# The paper's caves (Figures 10-12) from the shipped scenarios: breakthrough happens, every source
+# reaches a sink, Figure 10 shows a tributary capture, and the morphometric indices (tighter field)
+# fall inside the confined-cave ranges of the paper's Table 2.
+. "$(dirname "$0")/lib.sh"
+for fig in fig10 fig11 fig12; do
+  expect_exit 0 "$fig runs" -- "$CAVESIM" run "$SRC/scenarios/$fig.toml" --out "$fig" -q
+  python3 - "$fig" "$fig/report.json" <<'PY' && pass "$fig: breakthrough, all sources connected, confined indices" || fail "$fig"
+import json, sys
+fig, path = sys.argv[1], sys.argv[2]
+r = json.load(open(path))
+n, m = r["network"], r["morphometry"]
+print(fig, "breakthrough", r["stage2"]["breakthrough_iteration"], {k: v for k, v in n.items() if k != "paths"})
+print(fig, {k: round(m[k], 3) for k in ("network_density_opt", "areal_coverage_pct_opt", "porosity_pct_opt", "mean_width_m")})
+assert r["stage2"]["breakthrough_iteration"] is not None
+assert n["sources_connected"] == n["sources_total"]
+if fig == "fig10":
+    assert n["tributary_captures"] >= 1
+assert 0.049 <= m["network_density_opt"] <= 0.406
+assert 13.56 <= m["areal_coverage_pct_opt"] <= 58.51
+assert 1.1 <= m["porosity_pct_opt"] <= 12
+assert 0.65 <= m["mean_width_m"] <= 4.53
+assert r["mesh"]["closed"] and r["mesh"]["manifold"]
+PY
+done
+finish
