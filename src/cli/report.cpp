@@ -87,7 +87,11 @@ nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
 
 // ---- report.md ---------------------------------------------------------------------------------
 
-std::string fmt(const nlohmann::json& v, int digits = 3) {
+std::string fmt(const nlohmann::json& v, int digits = 3) { return formatValue(v, digits); }
+
+}  // namespace
+
+std::string formatValue(const nlohmann::json& v, int digits) {
     if (v.is_null()) return "–";
     if (v.is_boolean()) return v.get<bool>() ? "yes" : "no";
     if (v.is_number_integer()) return std::to_string(v.get<long long>());
@@ -99,6 +103,8 @@ std::string fmt(const nlohmann::json& v, int digits = 3) {
     if (v.is_string()) return v.get<std::string>();
     return v.dump();
 }
+
+namespace {
 
 const nlohmann::json& at(const nlohmann::json& j, const std::string& a, const std::string& b = "") {
     static const nlohmann::json null;
@@ -156,12 +162,6 @@ const MetricRow kMetricRows[] = {
 };
 
 /// Paper Table 4 (its own caves, optimised field; rectangular in parentheses) and Table 5 timings.
-struct PaperCave {
-    const char* name;
-    double density[2], coverage[2], porosity[2], width;
-    const char* stage1Time;
-    const char* stage2Time;
-};
 const PaperCave kPaperCaves[] = {
     {"fig10", {0.317, 0.122}, {46.51, 17.94}, {5.59, 2.16}, 2.28, "1 min 43 s", "22 min 30 s"},
     {"fig11", {0.462, 0.179}, {77.54, 30.05}, {8.74, 3.39}, 1.95, "1 min 3 s", "9 min 39 s"},
@@ -169,6 +169,12 @@ const PaperCave kPaperCaves[] = {
 };
 
 }  // namespace
+
+const PaperCave* paperCave(const std::string& name) {
+    for (const PaperCave& p : kPaperCaves)
+        if (name == p.name) return &p;
+    return nullptr;
+}
 
 nlohmann::json meshJson(const mesh::MeshStats& m) {
     return {{"vertices", m.vertices},         {"faces", m.faces},
@@ -245,9 +251,7 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
         md << "| stage 2 | transport weight | " << s.stage2.weight << " |\n";
     }
 
-    const PaperCave* paper = nullptr;
-    for (const PaperCave& p : kPaperCaves)
-        if (s.name == p.name) paper = &p;
+    const PaperCave* paper = paperCave(s.name);
 
     md << "\n## Timings\n\n| phase | seconds |" << (paper ? " paper (Table 5) |" : "") << "\n|---|---|"
        << (paper ? "---|" : "") << "\n";

@@ -51,6 +51,20 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& report,
 /// Writes report.json and report.md into `dir` (each through a temporary name and a rename).
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir);
 
+/// The paper's own measurements of one of its caves: Table 4 (optimised field first, rectangular
+/// field second) and Table 5 (run times on its 2.5 GHz single-threaded machine).
+struct PaperCave {
+    const char* name;  ///< our scenario name: "fig10", "fig11", "fig12"
+    double density[2], coverage[2], porosity[2], width;
+    const char* stage1Time;
+    const char* stage2Time;
+};
+/// The paper's values for a scenario of that name, or nullptr.
+const PaperCave* paperCave(const std::string& scenarioName);
+
+/// A report value as text: integers as they are, reals to `digits` significant digits, null "–".
+std::string formatValue(const nlohmann::json& v, int digits = 3);
+
 /// Writes `text` to `path` through a temporary file in the same directory and a rename.
 void writeFileAtomic(const std::string& path, const std::string& text);
 

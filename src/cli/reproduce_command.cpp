@@ -65,17 +65,7 @@ const Figure kFigures[] = {
      {"perspective.png", "plan.png", "side_xz.png"}},
 };
 
-std::string fmt(const nlohmann::json& v, int digits = 3) {
-    if (v.is_null()) return "–";
-    if (v.is_number_integer()) return std::to_string(v.get<long long>());
-    if (v.is_number()) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%.*g", digits, v.get<double>());
-        return buf;
-    }
-    if (v.is_string()) return v.get<std::string>();
-    return v.dump();
-}
+std::string fmt(const nlohmann::json& v) { return formatValue(v); }
 
 const nlohmann::json& get(const nlohmann::json& j, std::initializer_list<const char*> path) {
     static const nlohmann::json null;
@@ -157,15 +147,10 @@ int reproduceCommand(const ReproduceOptions& opt) {
           "13.56–58.51 %, porosity 1.1–12 %, W 0.65–4.53 m.\n\n"
           "| index | fig10 ours | fig10 paper | fig11 ours | fig11 paper | fig12 ours | fig12 paper |\n"
           "|---|---|---|---|---|---|---|\n";
-    const char* paperRows[4][3] = {{"0.317 (0.122)", "0.462 (0.179)", "0.277 (0.105)"},
-                                   {"46.51 (17.94)", "77.54 (30.05)", "63.66 (24.05)"},
-                                   {"5.59 (2.16)", "8.74 (3.39)", "14.06 (5.31)"},
-                                   {"2.28", "1.95", "3.33"}};
     const char* keys[4] = {"network_density", "areal_coverage_pct", "porosity_pct", "mean_width_m"};
     const char* labels[4] = {"network density (m/m²)", "areal coverage (%)", "porosity (%)", "W (m)"};
     for (int row = 0; row < 4; ++row) {
         md << "| " << labels[row] << " |";
-        int c = 0;
         for (const char* name : {"fig10", "fig11", "fig12"}) {
             std::string ours = "–";
             for (const auto& [n, r] : reports) {
@@ -177,7 +162,15 @@ int reproduceCommand(const ReproduceOptions& opt) {
                     ours = fmt(get(m, {(std::string(keys[row]) + "_opt").c_str()})) + " (" +
                            fmt(get(m, {(std::string(keys[row]) + "_rect").c_str()})) + ")";
             }
-            md << " " << ours << " | " << paperRows[row][c++] << " |";
+            const PaperCave* p = paperCave(name);
+            char paper[64];
+            if (row == 3)
+                std::snprintf(paper, sizeof paper, "%g", p->width);
+            else {
+                const double* v = row == 0 ? p->density : row == 1 ? p->coverage : p->porosity;
+                std::snprintf(paper, sizeof paper, "%g (%g)", v[0], v[1]);
+            }
+            md << " " << ours << " | " << paper << " |";
         }
         md << "\n";
     }
@@ -199,8 +192,9 @@ int reproduceCommand(const ReproduceOptions& opt) {
           "single-threaded 2.5 GHz Athlon.\n\n| scenario | grid | stage 1 (s) | stage 2 (s) | whole run (s) | paper "
           "stage 1 | paper stage 2 |\n|---|---|---|---|---|---|---|\n";
     for (const auto& [n, r] : reports) {
-        const char* p1 = n == "fig10" ? "1 min 43 s" : n == "fig11" ? "1 min 3 s" : n == "fig12" ? "4 min 6 s" : "–";
-        const char* p2 = n == "fig10" ? "22 min 30 s" : n == "fig11" ? "9 min 39 s" : n == "fig12" ? "12 min 41 s" : "–";
+        const PaperCave* p = paperCave(n);
+        const char* p1 = p ? p->stage1Time : "–";
+        const char* p2 = p ? p->stage2Time : "–";
         md << "| " << n << " | " << get(r, {"grid"}).dump() << " | " << fmt(get(r, {"timing_s", "stage1"})) << " | "
            << fmt(get(r, {"timing_s", "stage2"})) << " | " << fmt(get(r, {"timing_s", "total"})) << " | " << p1
            << " | " << p2 << " |\n";

@@ -279,9 +279,9 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         r.finish({"size", "voxel_size"});
     }
     const double cells = double(s.size[0]) * s.size[1] * s.size[2];
-    if (cells > 64e6) {
+    if (cells > 16e6) {  // stage 2 holds about 300 bytes per voxel: 16 M voxels need about 5 GB
         top.fail("domain", root.get("domain"), "domain.size gives " + std::to_string(long(cells)) +
-                                                   " voxels; at most 64,000,000 are allowed");
+                                                   " voxels; at most 16,000,000 are allowed (stage 2 needs about 300 bytes per voxel)");
     }
     const double ext = std::max({s.size[0], s.size[1], s.size[2]}) * 4.0;
 

@@ -14,4 +14,18 @@ s2 = r["stage2"]
 assert s2["iterations"] == 30 and len(s2["history"]) == 30
 assert s2["water_balance_rel_error"] < 1e-9, s2["water_balance_rel_error"]
 PY
+for f in cave.obj cave.ply skeleton.json skeleton_nodes.dat skeleton_links.dat report.md images/perspective.png \
+  images/plan.png images/side_xz.png images/side_yz.png images/pressure.png images/flow.png; do
+  [ -s "r/$f" ] && pass "$f written" || fail "$f missing"
+done
+# `cavesim report DIR` rebuilds the report from the run's files: the same measurements.
+cp r/report.json before.json
+expect_exit 0 "report rebuilds" -- "$CAVESIM" report r
+python3 - before.json r/report.json <<'PY' && pass "rebuilt report agrees" || fail "rebuilt report differs"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+for k in ("network", "morphometry", "graph_metrics", "stage2"):
+    assert a[k] == b[k], k
+PY
+expect_exit 2 "report of a folder that is no run" -- "$CAVESIM" report .
 finish
