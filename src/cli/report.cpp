@@ -176,6 +176,17 @@ const PaperCave* paperCave(const std::string& name) {
     return nullptr;
 }
 
+std::string paperIndexText(const PaperCave& p, int row) {
+    char buf[64];
+    if (row == 3) {
+        std::snprintf(buf, sizeof buf, "%g", p.width);
+    } else {
+        const double* v = row == 0 ? p.density : row == 1 ? p.coverage : p.porosity;
+        std::snprintf(buf, sizeof buf, "%g (%g)", v[0], v[1]);
+    }
+    return buf;
+}
+
 nlohmann::json meshJson(const mesh::MeshStats& m) {
     return {{"vertices", m.vertices},         {"faces", m.faces},
             {"area_m2", num(m.areaM2)},       {"volume_m3", num(m.volumeM3)},
@@ -324,16 +335,7 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
                << inRange(rect, x.confinedFF) << " | " << rangeText(x.unconfined) << " | " << rangeText(x.confined)
                << " | " << (x.chamberFF.hi > 0 ? rangeText(x.chamberFF) : "–") << " | "
                << (x.confinedFF.hi > 0 ? rangeText(x.confinedFF) : "–") << " |";
-            if (paper) {
-                char buf[64];
-                if (row == 3)
-                    std::snprintf(buf, sizeof buf, "%g", paper->width);
-                else {
-                    const double* v = row == 0 ? paper->density : row == 1 ? paper->coverage : paper->porosity;
-                    std::snprintf(buf, sizeof buf, "%g (%g)", v[0], v[1]);
-                }
-                md << " " << buf << " |";
-            }
+            if (paper) md << " " << paperIndexText(*paper, row) << " |";
             md << "\n";
             ++row;
         }

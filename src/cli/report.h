@@ -61,6 +61,9 @@ struct PaperCave {
 };
 /// The paper's values for a scenario of that name, or nullptr.
 const PaperCave* paperCave(const std::string& scenarioName);
+/// One Table 4 cell as the paper prints it: row 0 density, 1 coverage, 2 porosity as
+/// "optimised (rectangular)", row 3 W.
+std::string paperIndexText(const PaperCave& paper, int row);
 
 /// A report value as text: integers as they are, reals to `digits` significant digits, null "–".
 std::string formatValue(const nlohmann::json& v, int digits = 3);

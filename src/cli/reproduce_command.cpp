@@ -162,15 +162,7 @@ int reproduceCommand(const ReproduceOptions& opt) {
                     ours = fmt(get(m, {(std::string(keys[row]) + "_opt").c_str()})) + " (" +
                            fmt(get(m, {(std::string(keys[row]) + "_rect").c_str()})) + ")";
             }
-            const PaperCave* p = paperCave(name);
-            char paper[64];
-            if (row == 3)
-                std::snprintf(paper, sizeof paper, "%g", p->width);
-            else {
-                const double* v = row == 0 ? p->density : row == 1 ? p->coverage : p->porosity;
-                std::snprintf(paper, sizeof paper, "%g (%g)", v[0], v[1]);
-            }
-            md << " " << ours << " | " << paper << " |";
+            md << " " << ours << " | " << paperIndexText(*paperCave(name), row) << " |";
         }
         md << "\n";
     }
