@@ -24,16 +24,7 @@ namespace {
 using namespace cavesim;
 
 Domain windingTubes() {
-    Domain d;
-    d.dims = {60, 60, 20};
-    d.voxelSize = 1.0;
-    d.flags = Grid3<std::uint8_t>(d.dims, 0);
-    d.porosity = Grid3<float>(d.dims, 0.05f);
-    d.porosity0 = d.porosity;
-    d.zone = Grid3<std::int32_t>(d.dims, -1);
-    d.pressure = Grid3<float>(d.dims, 0.f);
-    d.water = Grid3<float>(d.dims, 0.f);
-    d.flow = Grid3<float>(d.dims, 0.f);
+    Domain d = emptyDomain(Dims{60, 60, 20}, 1.0, 0.05f);
     constexpr double kPi = 3.14159265358979323846;
     struct Tube {
         double y0, ay, phase, z0, az, r0;

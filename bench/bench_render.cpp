@@ -16,16 +16,7 @@ namespace {
 using namespace cavesim;
 
 Domain synthetic(Dims dims) {
-    Domain d;
-    d.dims = dims;
-    d.voxelSize = 1.0;
-    d.flags = Grid3<std::uint8_t>(dims, 0);
-    d.zone = Grid3<std::int32_t>(dims, -1);
-    d.porosity = Grid3<float>(dims, 0.05f);
-    d.porosity0 = d.porosity;
-    d.pressure = Grid3<float>(dims, 0.f);
-    d.water = Grid3<float>(dims, 0.f);
-    d.flow = Grid3<float>(dims, 0.f);
+    Domain d = emptyDomain(dims, 1.0, 0.05f);
     const double src[3][3] = {{6, 0.2 * dims.ny, 0.8 * dims.nz},
                               {8, 0.8 * dims.ny, 0.7 * dims.nz},
                               {0.45 * dims.nx, 0.85 * dims.ny, 0.85 * dims.nz}};

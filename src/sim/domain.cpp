@@ -32,17 +32,23 @@ std::vector<std::size_t> boxVoxels(const Dims& d, const VoxelBox& b) {
 
 }  // namespace
 
-Domain buildDomain(const Scenario& s, Rng& rng) {
+Domain emptyDomain(const Dims& dims, double voxelSize, float porosity) {
     Domain dom;
-    dom.dims = Dims{s.size[0], s.size[1], s.size[2]};
-    dom.voxelSize = s.voxelSize;
+    dom.dims = dims;
+    dom.voxelSize = voxelSize;
+    dom.porosity = Grid3<float>(dims, porosity);
+    dom.porosity0 = dom.porosity;
+    dom.flags = Grid3<std::uint8_t>(dims, 0);
+    dom.zone = Grid3<std::int32_t>(dims, -1);
+    dom.pressure = Grid3<float>(dims, 0.f);
+    dom.water = Grid3<float>(dims, 0.f);
+    dom.flow = Grid3<float>(dims, 0.f);
+    return dom;
+}
+
+Domain buildDomain(const Scenario& s, Rng& rng) {
+    Domain dom = emptyDomain(Dims{s.size[0], s.size[1], s.size[2]}, s.voxelSize, float(s.rockPorosity));
     const Dims& d = dom.dims;
-    dom.porosity = Grid3<float>(d, float(s.rockPorosity));
-    dom.flags = Grid3<std::uint8_t>(d, 0);
-    dom.zone = Grid3<std::int32_t>(d, -1);
-    dom.pressure = Grid3<float>(d, 0.f);
-    dom.water = Grid3<float>(d, 0.f);
-    dom.flow = Grid3<float>(d, 0.f);
 
     // Noise: always drawn from the engine (so later draws do not depend on whether noise is on).
     const GradientNoise noise(rng);

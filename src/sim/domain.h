@@ -47,6 +47,11 @@ struct Domain {
     std::vector<std::vector<std::size_t>> sinkVoxels;
 };
 
+/// A domain of `dims` voxels of `voxelSize` metres, uniform porosity (porosity0 the same), no
+/// flags, zone −1, zero pressure, water and flow, no sources or sinks: the starting point of
+/// `buildDomain`, and of hand-made domains in tests and benchmarks.
+Domain emptyDomain(const Dims& dims, double voxelSize, float porosity);
+
 /// Builds the porosity grid and flags from a validated scenario. Deterministic for `rng`'s state.
 /// @throw InputError if the scenario describes something impossible (caught by validation first).
 Domain buildDomain(const Scenario& scenario, Rng& rng);

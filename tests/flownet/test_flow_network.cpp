@@ -8,16 +8,11 @@
 #include <set>
 
 #include "flownet/flow_network.h"
+#include "test_util.h"
 #include "flownet/protosinks.h"
 
 namespace cavesim::flownet {
 namespace {
-
-std::vector<std::size_t> allVoxels(const Dims& d) {
-    std::vector<std::size_t> v(d.count());
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = i;
-    return v;
-}
 
 TEST(FlowNetwork, CubeHasEveryFacePairOnceWithConsistentReverses) {
     const Dims d{3, 3, 3};

@@ -8,16 +8,11 @@
 #include <random>
 
 #include "flownet/flow_network.h"
+#include "test_util.h"
 #include "flownet/max_flow.h"
 
 namespace cavesim::flownet {
 namespace {
-
-std::vector<std::size_t> allVoxels(const Dims& d) {
-    std::vector<std::size_t> v(d.count());
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = i;
-    return v;
-}
 
 Grid3<float> randomPorosity(const Dims& d, unsigned seed, float lo = 0.02f, float hi = 0.3f) {
     std::mt19937 gen(seed);

@@ -8,17 +8,12 @@
 #include <set>
 
 #include "flownet/flow_network.h"
+#include "test_util.h"
 #include "flownet/max_flow.h"
 #include "flownet/protochannels.h"
 
 namespace cavesim::flownet {
 namespace {
-
-std::vector<std::size_t> allVoxels(const Dims& d) {
-    std::vector<std::size_t> v(d.count());
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = i;
-    return v;
-}
 
 ProtochannelTree solveAndTrace(const FlowNetwork& net, const TraceOptions& o = {}) {
     MaxFlowResult r = leastResistanceMaxFlow(net);

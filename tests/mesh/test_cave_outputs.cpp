@@ -25,16 +25,7 @@ namespace fs = std::filesystem;
 // A 24×16×10 block (voxels of 0.5 m) with an L-shaped channel: along x at (j, k) = (8, 5), then
 // up along z at i = 18; a source at its start, a sink at its top.
 Domain lChannel(bool withCave = true) {
-    Domain d;
-    d.dims = {24, 16, 10};
-    d.voxelSize = 0.5;
-    d.flags = Grid3<std::uint8_t>(d.dims, 0);
-    d.porosity = Grid3<float>(d.dims, 0.05f);
-    d.porosity0 = d.porosity;
-    d.zone = Grid3<std::int32_t>(d.dims, -1);
-    d.pressure = Grid3<float>(d.dims, 0.f);
-    d.water = Grid3<float>(d.dims, 0.f);
-    d.flow = Grid3<float>(d.dims, 0.f);
+    Domain d = emptyDomain(Dims{24, 16, 10}, 0.5, 0.05f);
     if (withCave) {
         for (int i = 3; i <= 18; ++i)
             for (int dj = -1; dj <= 1; ++dj)

@@ -18,16 +18,7 @@ namespace {
 // height, a channel (the cave) along the same line in the right half, pressure = x, flow
 // decaying away from the channel.
 Domain twoZones(Dims dims) {
-    Domain d;
-    d.dims = dims;
-    d.voxelSize = 0.5;
-    d.flags = Grid3<std::uint8_t>(dims, 0);
-    d.zone = Grid3<std::int32_t>(dims, -1);
-    d.porosity = Grid3<float>(dims, 0.05f);
-    d.porosity0 = d.porosity;
-    d.pressure = Grid3<float>(dims, 0.f);
-    d.water = Grid3<float>(dims, 0.f);
-    d.flow = Grid3<float>(dims, 0.f);
+    Domain d = emptyDomain(dims, 0.5, 0.05f);
     const int jm = dims.ny / 2, km = dims.nz / 2;
     for (int k = 0; k < dims.nz; ++k)
         for (int j = 0; j < dims.ny; ++j)
