@@ -48,7 +48,8 @@ const Figure kFigures[] = {
      {"sequence.png", "pressure.png", "flow.png"}},
     {"fig09", "Figure 9: channel growth in 2D, rates 0.0025 : 0.001",
      "With little resistance in the rock, development toward the sink is preferred over linking up with "
-     "a neighbour and no phreatic loops form; the result depends only on the ratio of the rates.",
+     "a neighbour: each protochannel reaches the sink without first going through a neighbour and no "
+     "phreatic loops form; the result depends only on the ratio of the rates.",
      {"sequence.png", "pressure.png", "flow.png"}},
     {"fig10", "Figure 10: three sources, one sink area, spherical obstacles",
      "Protochannels branch from three sources; in stage 2 larger channels converge on a single sink "
