@@ -12,6 +12,9 @@
 #include <string>
 #include <utility>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 namespace cavesim::fastmarch {
 namespace {
 
@@ -169,34 +172,48 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
             throw std::invalid_argument("marchLabelled: seed label " + std::to_string(s.label) + " has no speed");
     }
     LabelledArrival out{Grid3<double>(dims, kInf), Grid3<std::int32_t>(dims, -1)};
-    // One front per label through the whole grid, then the earliest arrival wins (ties: lower label).
-    Grid3<double> time(dims);
-    std::vector<std::uint8_t> isSeed(dims.count());
-    Grid3<float> labelSlowness(dims);
-    for (std::size_t label = 0; label < labelSpeed.size(); ++label) {
-        std::fill(time.data.begin(), time.data.end(), kInf);
-        std::fill(isSeed.begin(), isSeed.end(), 0);
-        MinHeap heap;
-        for (const Seed& s : seeds) {
-            if (std::size_t(s.label) != label) continue;
-            time[s.voxel] = isSeed[s.voxel] ? std::min(time[s.voxel], s.value) : s.value;
-            isSeed[s.voxel] = 1;
+    // One front per label through the whole grid, then the earliest arrival wins (ties: lower
+    // label). The fronts are independent, so a batch of them marches in parallel, one per worker;
+    // merging in label order keeps the result the same for any thread count.
+    const std::size_t nLabels = labelSpeed.size();
+    const std::size_t batch = std::max<std::size_t>(1, std::size_t(tbb::this_task_arena::max_concurrency()));
+    std::vector<Grid3<double>> times(std::min(batch, nLabels));
+    std::vector<std::uint8_t> marched(nLabels, 0);
+    for (std::size_t first = 0; first < nLabels; first += batch) {
+        const std::size_t count = std::min(batch, nLabels - first);
+        tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
+            const std::size_t label = first + k;
+            Grid3<double>& time = times[k];
+            time = Grid3<double>(dims, kInf);
+            std::vector<std::uint8_t> isSeed(dims.count(), 0);
+            MinHeap heap;
+            for (const Seed& s : seeds) {
+                if (std::size_t(s.label) != label) continue;
+                time[s.voxel] = isSeed[s.voxel] ? std::min(time[s.voxel], s.value) : s.value;
+                isSeed[s.voxel] = 1;
+            }
+            bool any = false;
+            for (std::size_t n = 0; n < dims.count(); ++n)
+                if (isSeed[n]) {
+                    heap.push({time[n], n});
+                    any = true;
+                }
+            if (!any) return;
+            marched[label] = 1;
+            const float inv = float(1.0 / labelSpeed[label]);
+            Grid3<float> labelSlowness(dims);
+            for (std::size_t n = 0; n < dims.count(); ++n) labelSlowness[n] = (slowness ? (*slowness)[n] : 1.0f) * inv;
+            relax(dims, labelSlowness, isSeed, kInf, Stencil::kFace6, time, heap, nullptr);
+        });
+        for (std::size_t k = 0; k < count; ++k) {
+            if (!marched[first + k]) continue;
+            const Grid3<double>& time = times[k];
+            for (std::size_t n = 0; n < dims.count(); ++n)
+                if (time[n] < out.time[n]) {  // strict: on a tie the lower label, merged first, keeps the voxel
+                    out.time[n] = time[n];
+                    out.label[n] = std::int32_t(first + k);
+                }
         }
-        bool any = false;
-        for (std::size_t n = 0; n < dims.count(); ++n)
-            if (isSeed[n]) {
-                heap.push({time[n], n});
-                any = true;
-            }
-        if (!any) continue;
-        const float inv = float(1.0 / labelSpeed[label]);
-        for (std::size_t n = 0; n < dims.count(); ++n) labelSlowness[n] = (slowness ? (*slowness)[n] : 1.0f) * inv;
-        relax(dims, labelSlowness, isSeed, kInf, Stencil::kFace6, time, heap, nullptr);
-        for (std::size_t n = 0; n < dims.count(); ++n)
-            if (time[n] < out.time[n]) {  // strict: on a tie the lower label, marched first, keeps the voxel
-                out.time[n] = time[n];
-                out.label[n] = std::int32_t(label);
-            }
     }
     return out;
 }

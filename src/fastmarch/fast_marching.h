@@ -40,7 +40,8 @@ struct LabelledArrival {
 /// Each voxel joins the front that arrives first (ties: the lower label). Fronts march
 /// independently, so with uniform slowness the zones are the multiplicatively weighted Voronoi
 /// cells: a bisector plane for equal speeds, an Apollonius sphere for unequal ones. One march per
-/// label: cost O(labels · voxels · log voxels).
+/// label: cost O(labels · voxels · log voxels); the marches run in parallel (one per worker) and
+/// are merged in label order, so the result does not depend on the thread count.
 /// @param dims        the grid
 /// @param slowness    per-voxel slowness, > 0, or +inf for impassable; nullptr = 1 everywhere
 /// @param seeds       starting voxels; a voxel listed twice keeps the smaller value (lower label on ties)

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include <tbb/global_control.h>
+
 #include "fastmarch/fast_marching.h"
 
 namespace cavesim::fastmarch {
@@ -190,6 +192,45 @@ TEST(Labelled, ImpassableVoxelsAreNotReached) {
     EXPECT_EQ(out.label.at(4, 0, 0), -1);
     EXPECT_EQ(out.label.at(8, 0, 0), -1);
     EXPECT_TRUE(std::isinf(out.time.at(8, 0, 0)));
+}
+
+TEST(Labelled, ParallelFrontsEqualOneAtATimeForAnyThreadCount) {
+    // Five labels (one without seeds) through random slowness with impassable voxels: more labels
+    // than workers, so the fronts march in batches. The result must equal each front marched on
+    // its own and merged by (time, label), bit for bit, with one thread and with all.
+    const Dims d{23, 17, 9};
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.5f, 2.0f);
+    Grid3<float> s(d);
+    for (float& v : s.data) v = u(rng);
+    for (std::size_t v = 0; v < s.size(); v += 37) s[v] = std::numeric_limits<float>::infinity();
+    const std::vector<double> speed{1.0, 1.7, 0.8, 1.2, 2.5};
+    const std::vector<Seed> seeds{{d.index(2, 3, 4), 0, 0},  {d.index(20, 3, 1), 0.5, 1}, {d.index(11, 15, 7), 0, 2},
+                                  {d.index(12, 15, 7), 0, 2}, {d.index(5, 10, 0), 0, 4},  {d.index(2, 3, 4), 0, 4}};
+    LabelledArrival expect{Grid3<double>(d, std::numeric_limits<double>::infinity()), Grid3<std::int32_t>(d, -1)};
+    for (int label = 0; label < int(speed.size()); ++label) {
+        std::vector<Seed> own;
+        for (Seed q : seeds)
+            if (q.label == label) own.push_back({q.voxel, q.value, 0});
+        if (own.empty()) continue;
+        const auto one = marchLabelled(d, &s, own, {speed[std::size_t(label)]});
+        for (std::size_t v = 0; v < d.count(); ++v)
+            if (one.time[v] < expect.time[v]) {
+                expect.time[v] = one.time[v];
+                expect.label[v] = label;
+            }
+    }
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        const auto got = marchLabelled(d, &s, seeds, speed);
+        ASSERT_EQ(got.label.data, expect.label.data) << threads << " thread(s)";
+        for (std::size_t v = 0; v < d.count(); ++v)
+            ASSERT_TRUE(got.time[v] == expect.time[v] || (std::isinf(got.time[v]) && std::isinf(expect.time[v])))
+                << v;
+    }
+    // Label 4 shares a seed voxel with label 0 at the same time: the lower label keeps it.
+    EXPECT_EQ(expect.label[d.index(2, 3, 4)], 0);
+    EXPECT_EQ(std::count(expect.label.data.begin(), expect.label.data.end(), 3), 0);
 }
 
 TEST(Labelled, BadInputThrows) {
