@@ -143,33 +143,62 @@ int reproduceCommand(const ReproduceOptions& opt) {
         md << "\n";
     }
 
+    // Table 4 both ways: the paper's Figures 10–12 show the protochannels beside the channels and
+    // do not say which of them its indices measure, so the caves are also measured with the
+    // protochannels as side passages (the same simulation, re-run with `[output] cave`).
+    std::vector<std::pair<std::string, nlohmann::json>> withProto;
+    for (auto& [fig, s] : runs) {
+        const std::string name = s.name;
+        if (name != "fig10" && name != "fig11" && name != "fig12") continue;
+        Scenario v = s;
+        v.output.cave = "with_protochannels";
+        v.output.images = false;
+        v.output.mesh = false;
+        v.stage2.snapshots.clear();
+        ProgressBar bar(true);
+        OutputDir dir(fs::path(opt.outDir) / (name + "_with_protochannels"), true);
+        dir.open();
+        const PipelineResult res = runPipeline(v, threads, dir, bar);
+        dir.commit();
+        std::fprintf(stderr, "reproduce: %s with protochannels in %.2f s\n", name.c_str(), res.totalSeconds);
+        withProto.push_back({name, res.report});
+    }
+    const char* keys[4] = {"network_density", "areal_coverage_pct", "porosity_pct", "mean_width_m"};
+    const char* labels[4] = {"network density (m/m²)", "areal coverage (%)", "porosity (%)", "W (m)"};
+    auto table4 = [&](const std::vector<std::pair<std::string, nlohmann::json>>& rs) {
+        md << "| index | fig10 ours | fig10 paper | fig11 ours | fig11 paper | fig12 ours | fig12 paper |\n"
+              "|---|---|---|---|---|---|---|\n";
+        for (int row = 0; row < 4; ++row) {
+            md << "| " << labels[row] << " |";
+            for (const char* name : {"fig10", "fig11", "fig12"}) {
+                std::string ours = "–";
+                for (const auto& [n, r] : rs) {
+                    if (n != name) continue;
+                    const auto& m = get(r, {"morphometry"});
+                    if (row == 3)
+                        ours = fmt(get(m, {keys[row]}));
+                    else
+                        ours = fmt(get(m, {(std::string(keys[row]) + "_opt").c_str()})) + " (" +
+                               fmt(get(m, {(std::string(keys[row]) + "_rect").c_str()})) + ")";
+                }
+                md << " " << ours << " | " << paperIndexText(*paperCave(name), row) << " |";
+            }
+            md << "\n";
+        }
+    };
     md << "## Table 4: morphometric indices\n\nOurs: convex-hull field (rectangular field in parentheses); the "
           "paper's values from its Table 4. Confined ranges (paper Table 2): density 0.049–0.406 m/m², coverage "
           "13.56–58.51 %, porosity 1.1–12 %, W 0.65–4.53 m.\n\n"
-          "| index | fig10 ours | fig10 paper | fig11 ours | fig11 paper | fig12 ours | fig12 paper |\n"
-          "|---|---|---|---|---|---|---|\n";
-    const char* keys[4] = {"network_density", "areal_coverage_pct", "porosity_pct", "mean_width_m"};
-    const char* labels[4] = {"network density (m/m²)", "areal coverage (%)", "porosity (%)", "W (m)"};
-    for (int row = 0; row < 4; ++row) {
-        md << "| " << labels[row] << " |";
-        for (const char* name : {"fig10", "fig11", "fig12"}) {
-            std::string ours = "–";
-            for (const auto& [n, r] : reports) {
-                if (n != name) continue;
-                const auto& m = get(r, {"morphometry"});
-                if (row == 3)
-                    ours = fmt(get(m, {keys[row]}));
-                else
-                    ours = fmt(get(m, {(std::string(keys[row]) + "_opt").c_str()})) + " (" +
-                           fmt(get(m, {(std::string(keys[row]) + "_rect").c_str()})) + ")";
-            }
-            md << " " << ours << " | " << paperIndexText(*paperCave(name), row) << " |";
-        }
-        md << "\n";
-    }
-    md << "\nCave category from the indices: ";
+          "The cave as the stage-2 channels (the default, `[output] cave = \"channels\"`):\n\n";
+    table4(reports);
+    md << "\nThe same runs with the stage-1 protochannels as side passages (`[output] cave = "
+          "\"with_protochannels\"`; the paper's Figures 10–12 show both kinds of channel and its text does not "
+          "say which its indices measure):\n\n";
+    table4(withProto);
+    md << "\nCave category from the indices (channels; with protochannels): ";
     for (const auto& [n, r] : reports)
-        if (n == "fig10" || n == "fig11" || n == "fig12") md << n << " " << fmt(get(r, {"cave_category"})) << "; ";
+        for (const auto& [n2, r2] : withProto)
+            if (n == n2) md << n << " " << fmt(get(r, {"cave_category"})) << "; " << fmt(get(r2, {"cave_category"})) << ". ";
     md << "\n\n## Network metrics (Collon et al. 2017)\n\nReal caves (34 networks): h_or 0.75–1.00, len_mean "
           "8.46–331.74 m, cv_len 0.90–2.56, h_len 0.07–0.67, k_mean 1.75–2.57, r_k −0.56 – −0.15, spl "
           "2.32–55.72, cpd 0.02–0.57, tortuosity 1.12–1.54.\n\n| scenario | h_or | len_mean_m | cv_len | h_len | "

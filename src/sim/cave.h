@@ -10,9 +10,10 @@ namespace cavesim {
 
 /// The cave mask: 1 where a voxel is cave, 0 elsewhere.
 ///
-/// After stage 2 the cave is every voxel flagged channel (eroded to `[stage2] channel_threshold`).
-/// When no voxel is channel (stage 2 disabled, or zero iterations), the protochannel voxels stand
-/// in, so a stage-1-only run still has something to mesh and measure. A source voxel is an inlet:
+/// After stage 2 the cave is every voxel flagged channel (eroded to `[stage2] channel_threshold`);
+/// with `CaveExtent::kWithProtochannels` (`[output] cave = "with_protochannels"`) the stage-1
+/// protochannels too. When no voxel is channel (stage 2 disabled, or zero iterations), the
+/// protochannel voxels stand in, so a stage-1-only run still has something to mesh and measure. A source voxel is an inlet:
 /// it is cave when it touches (26-neighbour) a cave voxel, so a passage begins at its source and a
 /// source inside a passage leaves no solid speck in it; a source no passage reached is not cave.
 /// Sink voxels are outlets in the rock (often a whole wall) and are never cave.
@@ -25,7 +26,7 @@ inline Grid3<std::uint8_t> caveMask(const Domain& domain) {
             any = true;
         }
     }
-    if (!any) {
+    if (!any || domain.caveExtent == CaveExtent::kWithProtochannels) {
         for (std::size_t n = 0; n < domain.flags.size(); ++n)
             if ((domain.flags[n] & kProtochannel) && !(domain.flags[n] & kSink)) mask[n] = 1;
     }

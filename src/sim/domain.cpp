@@ -132,6 +132,7 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
         for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
     }
     dom.porosity0 = dom.porosity;
+    dom.caveExtent = s.output.cave == "with_protochannels" ? CaveExtent::kWithProtochannels : CaveExtent::kChannels;
     return dom;
 }
 

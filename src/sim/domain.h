@@ -29,6 +29,12 @@ enum VoxelFlag : std::uint8_t {
 /// Explicit random engine, always passed by reference (never copied, never global).
 using Rng = std::mt19937_64;
 
+/// Which voxels make up the cave (`[output] cave`, read by `caveMask`).
+enum class CaveExtent : std::uint8_t {
+    kChannels,            ///< the stage-2 channels (protochannels only when there are none)
+    kWithProtochannels,   ///< the channels and the stage-1 protochannels
+};
+
 struct Domain {
     Dims dims;
     double voxelSize = 1.0;  ///< metres
@@ -45,6 +51,8 @@ struct Domain {
     std::vector<std::vector<std::size_t>> sourceVoxels;
     std::vector<double> sourcePressure;  ///< relative pressure of each source
     std::vector<std::vector<std::size_t>> sinkVoxels;
+
+    CaveExtent caveExtent = CaveExtent::kChannels;  ///< `[output] cave`
 };
 
 /// A domain of `dims` voxels of `voxelSize` metres, uniform porosity (porosity0 the same), no

@@ -119,6 +119,9 @@ struct OutputSettings {
     int imageWidth = 1024;             ///< pixels, [256, 8192]
     bool images = true;
     bool mesh = true;
+    /// Which voxels are the cave (mesh, pictures, report): "channels" (the stage-2 channels) or
+    /// "with_protochannels" (and the stage-1 protochannels, as side passages).
+    std::string cave = "channels";
 };
 
 struct Scenario {

@@ -427,7 +427,8 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         o.imageWidth = int(r.integer("image_width", o.imageWidth, 256, 8192));
         o.images = r.boolean("images", o.images);
         o.mesh = r.boolean("mesh", o.mesh);
-        r.finish({"mesh_style", "image_width", "images", "mesh"});
+        o.cave = r.choice("cave", o.cave, {"channels", "with_protochannels"});
+        r.finish({"mesh_style", "image_width", "images", "mesh", "cave"});
     }
     top.finish({"name", "seed", "domain", "rock", "source", "sink", "stage1", "stage2", "output"});
     validateScenario(s);
@@ -601,7 +602,8 @@ std::string scenarioToToml(const Scenario& s) {
     root.insert("output", toml::table{{"mesh_style", s.output.meshStyle},
                                       {"image_width", s.output.imageWidth},
                                       {"images", s.output.images},
-                                      {"mesh", s.output.mesh}});
+                                      {"mesh", s.output.mesh},
+                                      {"cave", s.output.cave}});
     std::ostringstream os;
     os << "# Effective scenario: every key with its value, defaults filled in.\n" << root << "\n";
     return os.str();

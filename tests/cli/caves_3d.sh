@@ -22,4 +22,17 @@ assert 0.65 <= m["mean_width_m"] <= 4.53
 assert r["mesh"]["closed"] and r["mesh"]["manifold"]
 PY
 done
+# [output] cave = "with_protochannels": the same simulation, a cave that also has the stage-1
+# protochannels as side passages: more voxels and more length, still a closed mesh.
+{ cat "$SRC/scenarios/fig10.toml"; printf '\n[output]\ncave = "with_protochannels"\n'; } > fig10-proto.toml
+expect_exit 0 "fig10 with protochannels runs" -- "$CAVESIM" run fig10-proto.toml --out fig10-proto -q
+python3 - fig10/report.json fig10-proto/report.json <<'PY' && pass "fig10 with protochannels: same simulation, a longer cave" || fail "fig10 with protochannels"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+ma, mb = a["morphometry"], b["morphometry"]
+print("channels", ma["cave_voxels"], round(ma["length_m"]), "with protochannels", mb["cave_voxels"], round(mb["length_m"]))
+assert a["checksums"] == b["checksums"]
+assert mb["cave_voxels"] > ma["cave_voxels"] and mb["length_m"] > 2 * ma["length_m"]
+assert b["mesh"]["closed"] and b["mesh"]["manifold"]
+PY
 finish

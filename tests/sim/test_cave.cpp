@@ -81,5 +81,20 @@ TEST(CaveMask, ProtochannelsStandInWhenThereIsNoChannel) {
     EXPECT_EQ(m.at(0, 0, 0), 1);
 }
 
+TEST(CaveMask, WithProtochannelsTheStage1TreesAreSidePassages) {
+    Domain d = block();
+    for (int i = 0; i < 9; ++i) d.flags.at(i, 2, 2) |= kChannel;
+    for (int k = 3; k < 5; ++k) d.flags.at(4, 2, k) |= kProtochannel;  // a branch off the passage
+    d.flags.at(0, 0, 0) |= kProtochannel;                              // an isolated tip
+    addSink(d, {d.dims.index(8, 0, 0)});
+    d.flags.at(8, 0, 0) |= kProtochannel;                              // a protochannel sink voxel
+    EXPECT_EQ(count(caveMask(d)), 9);
+    d.caveExtent = CaveExtent::kWithProtochannels;
+    const auto m = caveMask(d);
+    EXPECT_EQ(count(m), 9 + 2 + 1);
+    EXPECT_EQ(m.at(4, 2, 4), 1);
+    EXPECT_EQ(m.at(8, 0, 0), 0);
+}
+
 }  // namespace
 }  // namespace cavesim

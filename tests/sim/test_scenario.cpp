@@ -159,6 +159,16 @@ radius = 0.7
     EXPECT_NE(eff.find("p_rate_channel"), std::string::npos);  // defaults written out
 }
 
+TEST(Scenario, CaveExtentChoice) {
+    EXPECT_EQ(parseScenarioString(kBase, "a.toml").output.cave, "channels");  // default
+    const Scenario s = parseScenarioString(std::string(kBase) + "[output]\ncave = \"with_protochannels\"\n", "a.toml");
+    EXPECT_EQ(s.output.cave, "with_protochannels");
+    Rng rng(s.seed);
+    EXPECT_EQ(buildDomain(s, rng).caveExtent, CaveExtent::kWithProtochannels);
+    expectError(std::string(kBase) + "[output]\ncave = \"everything\"\n",
+                {":16", "output.cave", "everything", "\"channels\"", "\"with_protochannels\""});
+}
+
 TEST(Scenario, DefaultIsFig10) {
     const Scenario s = defaultScenario();
     EXPECT_EQ(s.name, "fig10");
