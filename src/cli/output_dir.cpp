@@ -1,7 +1,11 @@
 #include "cli/output_dir.h"
 
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <fstream>
 #include <system_error>
+
 #include <unistd.h>
 
 #include "core/error.h"
@@ -10,15 +14,59 @@ namespace fs = std::filesystem;
 
 namespace cavesim::cli {
 
-OutputDir::OutputDir(fs::path target, bool force) : target_(std::move(target)), force_(force) {
+namespace {
+
+/// True when `a` is `b` or one of its ancestors (both absolute and normalised).
+bool isSameOrAncestor(const fs::path& a, const fs::path& b) {
+    auto ia = a.begin(), ib = b.begin();
+    for (; ia != a.end() && !ia->empty(); ++ia, ++ib)
+        if (ib == b.end() || *ia != *ib) return false;
+    return true;
+}
+
+/// Staging (`.NAME.partial-PID`) and set-aside (`.NAME.old-PID`) directories of runs that no longer
+/// exist (killed before they could clean up) are removed; those of live runs are left alone.
+void removeStaleSiblings(const fs::path& parent, const std::string& name) {
     std::error_code ec;
-    if (fs::exists(target_, ec)) {
-        if (!fs::is_directory(target_, ec))
-            throw InputError("--out " + target_.string() + ": exists and is not a directory");
-        if (!fs::is_empty(target_, ec) && !force_)
-            throw InputError("--out " + target_.string() +
-                             ": directory exists and is not empty; pass --force to replace it");
+    for (const auto& e : fs::directory_iterator(parent, ec)) {
+        const std::string f = e.path().filename().string();
+        for (const std::string tag : {".partial-", ".old-"}) {
+            const std::string prefix = "." + name + tag;
+            if (f.size() <= prefix.size() || f.compare(0, prefix.size(), prefix) != 0) continue;
+            const std::string pid = f.substr(prefix.size());
+            if (pid.find_first_not_of("0123456789") != std::string::npos || pid.size() > 9) continue;
+            if (::kill(pid_t(std::stol(pid)), 0) == -1 && errno == ESRCH) {
+                std::error_code ec2;
+                fs::remove_all(e.path(), ec2);
+            }
+        }
     }
+}
+
+}  // namespace
+
+OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
+    std::error_code ec;
+    // Absolute and normalised, so ".", "dir/" and "a/../b" name what they mean.
+    target_ = fs::weakly_canonical(fs::absolute(target, ec), ec);
+    if (ec || target_.empty()) target_ = fs::absolute(target).lexically_normal();
+    if (target_.filename().empty()) target_ = target_.parent_path();
+    const std::string shown = "--out " + target.string();
+    const fs::path cwd = fs::current_path(ec);
+    if (target_ == target_.root_path() || (!ec && isSameOrAncestor(target_, cwd)))
+        throw InputError(shown + ": is the current directory, one of its parents or the root; give a "
+                                 "directory of its own for the results");
+    if (fs::exists(target_, ec)) {
+        if (!fs::is_directory(target_, ec)) throw InputError(shown + ": exists and is not a directory");
+        if (!fs::is_empty(target_, ec) && !force_)
+            throw InputError(shown + ": directory exists and is not empty; pass --force to replace it");
+    }
+    // The nearest existing ancestor must be a directory we can write in.
+    fs::path up = target_.parent_path();
+    while (!up.empty() && !fs::exists(up, ec) && up != up.root_path()) up = up.parent_path();
+    if (!fs::is_directory(up, ec)) throw InputError(shown + ": " + up.string() + " is not a directory");
+    if (::access(up.c_str(), W_OK | X_OK) != 0)
+        throw InputError(shown + ": cannot write in " + up.string() + " (" + std::strerror(errno) + ")");
 }
 
 OutputDir::~OutputDir() {
@@ -29,15 +77,15 @@ OutputDir::~OutputDir() {
 }
 
 void OutputDir::open() {
-    fs::path parent = target_.parent_path();
-    if (parent.empty()) parent = ".";
+    const fs::path parent = target_.parent_path();
     std::error_code ec;
     fs::create_directories(parent, ec);
-    if (ec) throw RuntimeError("cannot create " + parent.string() + ": " + ec.message());
+    if (ec) throw InputError("--out " + target_.string() + ": cannot create " + parent.string() + ": " + ec.message());
+    removeStaleSiblings(parent, target_.filename().string());
     staging_ = parent / ("." + target_.filename().string() + ".partial-" + std::to_string(::getpid()));
     fs::remove_all(staging_, ec);
     fs::create_directories(staging_, ec);
-    if (ec) throw RuntimeError("cannot create " + staging_.string() + ": " + ec.message());
+    if (ec) throw InputError("--out " + target_.string() + ": cannot create " + staging_.string() + ": " + ec.message());
 }
 
 fs::path OutputDir::file(const std::string& relative) const {
@@ -52,7 +100,6 @@ void OutputDir::commit() {
     fs::path old;
     if (fs::exists(target_, ec)) {
         old = target_.parent_path() / ("." + target_.filename().string() + ".old-" + std::to_string(::getpid()));
-        if (target_.parent_path().empty()) old = "." + target_.filename().string() + ".old-" + std::to_string(::getpid());
         fs::rename(target_, old, ec);
         if (ec) throw RuntimeError("cannot move the old " + target_.string() + " aside: " + ec.message());
     }

@@ -13,14 +13,18 @@ namespace cavesim::cli {
 
 class OutputDir {
 public:
-    /// Checks the target before any work starts.
-    /// @throw InputError if `target` exists, is not empty and `force` is false, or is not a directory
+    /// Checks the target before any work starts (the path is made absolute and normalised).
+    /// @throw InputError if `target` exists and is not a directory, is not empty and `force` is
+    ///        false, is the current directory, one of its parents or the root, or lies under a
+    ///        non-directory or a directory that cannot be written
     OutputDir(std::filesystem::path target, bool force);
     ~OutputDir();
     OutputDir(const OutputDir&) = delete;
     OutputDir& operator=(const OutputDir&) = delete;
 
-    /// Creates the staging directory (call once the run is about to write).
+    /// Creates the staging directory (call once the run is about to write), after removing the
+    /// staging directories that killed runs left beside the target.
+    /// @throw InputError if it cannot be created
     void open();
     /// Path of a file inside the staging directory (subdirectories are created).
     std::filesystem::path file(const std::string& relative) const;

@@ -203,12 +203,14 @@ int reproduceCommand(const ReproduceOptions& opt) {
           "8.46–331.74 m, cv_len 0.90–2.56, h_len 0.07–0.67, k_mean 1.75–2.57, r_k −0.56 – −0.15, spl "
           "2.32–55.72, cpd 0.02–0.57, tortuosity 1.12–1.54.\n\n| scenario | h_or | len_mean_m | cv_len | h_len | "
           "k_mean | r_k | spl | cpd | tortuosity |\n|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const auto& [n, r] : reports) {
-        md << "| " << n << " |";
+    auto metricsRow = [&](const std::string& label, const nlohmann::json& r) {
+        md << "| " << label << " |";
         for (const char* k : {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"})
             md << " " << fmt(get(r, {"graph_metrics", k})) << " |";
         md << "\n";
-    }
+    };
+    for (const auto& [n, r] : reports) metricsRow(n, r);
+    for (const auto& [n, r] : withProto) metricsRow(n + " with protochannels", r);
     md << "\n## Table 5: timings\n\nOurs on this machine (" << threads
        << " thread(s), one run; medians of repeated runs are in `bench/README.md`) beside the paper's "
           "single-threaded 2.5 GHz Athlon.\n\n| scenario | grid | stage 1 (s) | stage 2 (s) | whole run (s) | paper "

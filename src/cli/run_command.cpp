@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 #include <tbb/global_control.h>
@@ -29,7 +30,13 @@ int validateCommand(const std::string& path) {
 
 int runCommand(const RunOptions& opt) {
     Scenario s = opt.scenarioPath ? parseScenarioFile(*opt.scenarioPath) : defaultScenario();
-    if (opt.seed) s.seed = *opt.seed;
+    if (opt.seed) {
+        // The effective scenario.toml must reproduce the run, and a file's seed is at most 2^63 - 1.
+        if (*opt.seed > std::uint64_t(std::numeric_limits<std::int64_t>::max()))
+            throw InputError("--seed " + std::to_string(*opt.seed) + ": must be a whole number in [0, " +
+                             std::to_string(std::numeric_limits<std::int64_t>::max()) + "]");
+        s.seed = *opt.seed;
+    }
     if (!opt.meshStyle.empty()) s.output.meshStyle = opt.meshStyle;
     validateScenario(s);
 

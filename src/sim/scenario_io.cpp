@@ -1,6 +1,8 @@
 #include "sim/scenario_io.h"
 
 #include <charconv>
+#include <cstdio>
+#include <filesystem>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -26,11 +28,38 @@ std::string shortest(double v) {
     return std::string(buf, r.ptr);
 }
 
+/// A string value as it would be written in TOML: quotes and control characters escaped, so an
+/// error message stays on one line and shows what the file holds.
+std::string quoted(const std::string& v) {
+    std::string out = "\"";
+    for (unsigned char c : v) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += char(c);
+        } else if (c == '\n') {
+            out += "\\n";
+        } else if (c == '\t') {
+            out += "\\t";
+        } else if (c < 0x20 || c == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            out += buf;
+        } else {
+            out += char(c);
+        }
+    }
+    return out + '"';
+}
+
 void describeInto(const toml::node& n, std::string& out) {
     if (n.is_string()) {
-        out += '"' + n.as_string()->get() + '"';
+        out += quoted(n.as_string()->get());
     } else if (n.is_floating_point()) {
-        out += shortest(n.as_floating_point()->get());
+        // A float is shown as one (4.0, not 4), so "must be a whole number" does not quote a
+        // value that looks whole.
+        std::string t = shortest(n.as_floating_point()->get());
+        if (t.find_first_of(".eEni") == std::string::npos) t += ".0";
+        out += t;
     } else if (n.is_integer()) {
         out += std::to_string(n.as_integer()->get());
     } else if (n.is_boolean()) {
@@ -275,7 +304,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
     if (const toml::table* t = top.subtable("domain")) {
         TableReader r(*t, "domain", file);
         if (const toml::node* n = r.get("size")) s.size = r.ivec3("size", *n, 1, 1024);
-        s.voxelSize = r.number("voxel_size", 1.0, 0, 1e4, true);
+        s.voxelSize = r.number("voxel_size", 1.0, 1e-3, 1e4);
         r.finish({"size", "voxel_size"});
     }
     const double cells = double(s.size[0]) * s.size[1] * s.size[2];
@@ -291,7 +320,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         if (const toml::table* nt = r.subtable("noise")) {
             TableReader nr(*nt, "rock.noise", file);
             s.noise.amplitude = nr.number("amplitude", 0.0, 0, 1);
-            s.noise.scale = nr.number("scale", 8.0, 0, 1e6, true);
+            s.noise.scale = nr.number("scale", 8.0, 0.01, 1e6);
             s.noise.octaves = int(nr.integer("octaves", 3, 1, 8));
             nr.finish({"amplitude", "scale", "octaves"});
         }
@@ -334,8 +363,13 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         r.finish({"porosity", "noise", "sphere", "plane", "channel"});
     }
 
+    constexpr std::size_t kMaxTerminals = 256;  // each source marches its own zone front over the grid
     for (const toml::table* t : top.tableArray("source")) {
         TableReader r(*t, "source", file);
+        if (s.sources.size() == kMaxTerminals)
+            throw InputError(file + ":" + std::to_string(t->source().begin.line) + ": key 'source': at most " +
+                             std::to_string(kMaxTerminals) +
+                             " [[source]] entries (one [[source]] may be a box of many voxels)");
         SourceSpec src;
         src.line = int(t->source().begin.line);
         src.box = readBox(r, s.size, "source");
@@ -345,6 +379,10 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
     }
     for (const toml::table* t : top.tableArray("sink")) {
         TableReader r(*t, "sink", file);
+        if (s.sinks.size() == kMaxTerminals)
+            throw InputError(file + ":" + std::to_string(t->source().begin.line) + ": key 'sink': at most " +
+                             std::to_string(kMaxTerminals) +
+                             " [[sink]] entries (one [[sink]] may be a box of many voxels)");
         SinkSpec snk;
         snk.line = int(t->source().begin.line);
         snk.box = readBox(r, s.size, "sink");
@@ -399,8 +437,13 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         g.pRate = r.number("p_rate", g.pRate, 0, 1e6, true);
         g.pRateChannel = r.number("p_rate_channel", g.pRateChannel, 0, 1e6, true);
         if (g.pRateChannel > g.pRate) {
-            r.fail("p_rate_channel", t->get("p_rate_channel"),
-                   "must not exceed p_rate (" + std::to_string(g.pRate) + "): channels resist flow less than rock");
+            // Blame the key the file gives; if it gives only p_rate, the default channel rate is the bound.
+            if (t->get("p_rate_channel"))
+                r.fail("p_rate_channel", t->get("p_rate_channel"),
+                       "must not exceed p_rate (" + shortest(g.pRate) + "): channels resist flow less than rock");
+            r.fail("p_rate", t->get("p_rate"),
+                   "must be at least p_rate_channel (" + shortest(g.pRateChannel) +
+                       ", the default): channels resist flow less than rock; lower p_rate_channel too");
         }
         g.w0 = r.number("w0", g.w0, 0, 10);
         g.wa = r.number("wa", g.wa, 0, 100);
@@ -489,6 +532,19 @@ Scenario parseScenarioString(std::string_view text, const std::string& sourceNam
 }
 
 Scenario parseScenarioFile(const std::string& path) {
+    // Check what the path is before opening it: a directory reads as an empty file, a FIFO blocks
+    // and /dev/zero never ends.
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(st))
+        throw InputError(path + ": cannot open the scenario file (missing or unreadable)");
+    if (std::filesystem::is_directory(st)) throw InputError(path + ": is a directory, not a scenario file");
+    if (!std::filesystem::is_regular_file(st))
+        throw InputError(path + ": not a regular file (a scenario is a TOML text file)");
+    constexpr std::uintmax_t kMaxBytes = 16u << 20;
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (!ec && bytes > kMaxBytes)
+        throw InputError(path + ": " + std::to_string(bytes) + " bytes; a scenario file may have at most 16 MiB");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open the scenario file (missing or unreadable)");
     std::ostringstream buf;

@@ -43,4 +43,36 @@ for d in o1 o2 o3 o4 o5 o6; do [ -e "$d" ] && fail "$d exists after a refused ru
 expect_exit 0 "--help" -- "$CAVESIM" --help
 expect_exit 0 "--version" -- "$CAVESIM" --version
 grep -q "cavesim 0" stdout.txt && pass "version printed" || fail "version: $(cat stdout.txt)"
+# Not a scenario file at all: a directory, a FIFO (would block), an endless device.
+mkdir adir
+expect_exit 2 "directory as scenario" -- "$CAVESIM" validate adir
+stderr_has "is a directory"
+mkfifo afifo
+expect_exit 2 "FIFO as scenario" -- timeout 20 "$CAVESIM" validate afifo
+stderr_has "not a regular file"
+expect_exit 2 "device as scenario" -- timeout 20 "$CAVESIM" run /dev/zero --out o7
+stderr_has "not a regular file"
+
+# Numbers that pass a loose range but would break the run: a voxel OpenVDB cannot transform, a
+# noise scale whose inverse overflows.
+sed 's/^size = \[16, 1, 12\]/size = [16, 1, 12]\nvoxel_size = 1e-5/' good.toml > tinyvoxel.toml
+expect_exit 2 "voxel size too small" -- "$CAVESIM" run tinyvoxel.toml --out o8
+stderr_has "domain.voxel_size' = 1e-05"
+sed 's/^porosity = 0.05/porosity = 0.05\nnoise = { amplitude = 0.02, scale = 5e-324 }/' good.toml > tinynoise.toml
+expect_exit 2 "noise scale too small" -- "$CAVESIM" run tinynoise.toml --out o9
+stderr_has "rock.noise.scale"
+
+# A --seed the effective scenario.toml could not hold.
+expect_exit 2 "--seed beyond 2^63 - 1" -- "$CAVESIM" run good.toml --seed 18446744073709551615 --out o10
+stderr_has "--seed"
+
+# Output directories that cannot be ours: the current directory, the root, a path under a file.
+expect_exit 2 "--out . refused" -- "$CAVESIM" run good.toml --out . --force -q
+stderr_has "current directory"
+expect_exit 2 "--out / refused" -- "$CAVESIM" run good.toml --out / --force -q
+touch afile
+expect_exit 2 "--out under a file refused" -- "$CAVESIM" run good.toml --out afile/sub -q
+stderr_has "is not a directory"
+for o in o7 o8 o9 o10; do [ -e $o ] && fail "$o was created"; done
+[ -f good.toml ] && [ -d adir ] && pass "nothing removed by the refused runs" || fail "files went missing"
 finish

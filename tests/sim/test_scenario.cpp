@@ -169,6 +169,46 @@ TEST(Scenario, CaveExtentChoice) {
                 {":16", "output.cave", "everything", "\"channels\"", "\"with_protochannels\""});
 }
 
+TEST(Scenario, ErrorsQuoteValuesAsWritten) {
+    // A float where a whole number belongs is shown as a float, not as the whole number it equals.
+    std::string t = kBase;
+    t.replace(t.find("size = [20"), 10, "size = [20.0");
+    expectError(t, {"domain.size", "[20.0,", "whole numbers"});
+    // Control characters are escaped: the message stays on one line.
+    const std::string msg = errorOf(std::string("name = \"a\\nb\\u0001\"\n") + (kBase + 10));
+    EXPECT_NE(msg.find("\"a\\nb\\u0001\""), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+}
+
+TEST(Scenario, RockRateBelowTheDefaultChannelRateBlamesTheKeyInTheFile) {
+    expectError(std::string(kBase) + "p_rate = 1e-9\n", {"stage2.p_rate' = 1e-09", "p_rate_channel (0.001"});
+    expectError(std::string(kBase) + "p_rate = 0.1\np_rate_channel = 0.2\n",
+                {"stage2.p_rate_channel' = 0.2", "p_rate (0.1)"});
+}
+
+TEST(Scenario, SizesThatWouldBreakTheRunAreRefused) {
+    std::string t = kBase;
+    t.replace(t.find("voxel_size = 2.0"), 16, "voxel_size = 1e-5");
+    expectError(t, {"domain.voxel_size", "[0.001, 10000]"});
+    expectError(std::string(kBase) + "[rock.noise]\nscale = 5e-324\n", {"rock.noise.scale", "[0.01,"});
+    std::string many = kBase;
+    for (int i = 0; i < 257; ++i) many += "[[source]]\nat = [1, 1, 1]\n";
+    expectError(many, {"key 'source'", "at most 256"});
+}
+
+TEST(Scenario, OnlyRegularFilesAreRead) {
+    const auto dir = std::filesystem::temp_directory_path() / "cavesim_test_scenario_dir.toml";
+    std::filesystem::create_directories(dir);
+    try {
+        parseScenarioFile(dir.string());
+        FAIL() << "a directory was read as a scenario";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(parseScenarioFile("/dev/zero"), InputError);
+    std::filesystem::remove(dir);
+}
+
 TEST(Scenario, DefaultIsFig10) {
     const Scenario s = defaultScenario();
     EXPECT_EQ(s.name, "fig10");
