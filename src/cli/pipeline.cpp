@@ -1,5 +1,6 @@
 #include "cli/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -66,21 +67,28 @@ PipelineResult runPipeline(const Scenario& s, int threads, const OutputDir& dir,
     if (s.stage2.enabled) {
         const auto t2 = Clock::now();
         prepareStage2(dom, s);
+        // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
+        // reduced as it is taken, so the frames kept for the strip stay small at any image width.
+        constexpr int kPerRow = 6, kStripWidth = 8192;
+        const int nFrames = int(s.stage2.snapshots.size());
+        const int cols = std::clamp(nFrames, 1, kPerRow);
+        const int reduce = std::max(1, (width * cols + kStripWidth - 1) / kStripWidth);
         std::vector<render::Image> frames;
         SnapshotFn snap;
-        if (s.output.images && !s.stage2.snapshots.empty()) {
+        if (s.output.images && nFrames > 0) {
             snap = [&](int it, const Domain& d) {
                 char name[64];
                 std::snprintf(name, sizeof name, "images/iter_%04d.png", it);
                 render::Image frame = render::stateFrame(d, "iteration " + std::to_string(it), width);
                 render::writePng(dir.file(name).string(), frame);
-                frames.push_back(std::move(frame));
+                frames.push_back(render::downsample(frame, reduce));
             };
         }
         rec.stage2 = runStage2(dom, s, progress, snap);
         rec.timing.stage2 = since(t2);
         if (frames.size() > 1)
-            render::writePng(dir.file("images/sequence.png").string(), render::composeStrip(frames, 1));
+            render::writePng(dir.file("images/sequence.png").string(),
+                             render::composeStrip(frames, (int(frames.size()) + kPerRow - 1) / kPerRow));
         const auto& r = *rec.stage2;
         bar.log("stage 2: " + std::to_string(r.iterations) + " iterations, breakthrough " +
                 (r.breakthroughIteration ? "at iteration " + std::to_string(*r.breakthroughIteration)

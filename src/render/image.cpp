@@ -4,6 +4,8 @@
 #include <cmath>
 #include <unordered_set>
 
+#include "core/error.h"
+
 namespace cavesim::render {
 
 Image::Image(int w, int h, Rgb fill) : width(std::max(w, 0)), height(std::max(h, 0)) {
@@ -233,6 +235,24 @@ void drawMarker(Image& img, double cx, double cy, double r, Marker m, Rgb fill, 
 void blit(Image& dst, const Image& src, int x, int y) {
     for (int v = 0; v < src.height; ++v)
         for (int u = 0; u < src.width; ++u) dst.set(x + u, y + v, src.get(u, v));
+}
+
+Image downsample(const Image& src, int factor) {
+    if (factor < 1) throw InputError("downsample: factor must be at least 1, got " + std::to_string(factor));
+    if (factor == 1) return src;
+    Image out((src.width + factor - 1) / factor, (src.height + factor - 1) / factor);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            int sum[3] = {0, 0, 0}, n = 0;
+            for (int v = y * factor; v < std::min(src.height, (y + 1) * factor); ++v)
+                for (int u = x * factor; u < std::min(src.width, (x + 1) * factor); ++u) {
+                    const Rgb c = src.get(u, v);
+                    sum[0] += c.r, sum[1] += c.g, sum[2] += c.b, ++n;
+                }
+            out.set(x, y, {std::uint8_t((sum[0] + n / 2) / n), std::uint8_t((sum[1] + n / 2) / n),
+                           std::uint8_t((sum[2] + n / 2) / n)});
+        }
+    return out;
 }
 
 double pixelVariance(const Image& img) {

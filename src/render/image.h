@@ -79,6 +79,10 @@ void drawTextAligned(Image& img, int x, int y, const std::string& text, Rgb c, i
 /// Copies `src` into `dst` with its top-left corner at (x, y), clipped.
 void blit(Image& dst, const Image& src, int x, int y);
 
+/// The image reduced by an integer `factor` ≥ 1: each output pixel is the mean of a factor × factor
+/// block (partial blocks at the right and bottom edges average what they cover).
+Image downsample(const Image& src, int factor);
+
 /// Mean over pixels and channels of the squared deviation from the mean (0 for a blank image).
 double pixelVariance(const Image& img);
 /// Number of distinct colours (tests, sanity checks).

@@ -457,6 +457,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         if (const toml::node* n = r.get("snapshots")) {
             auto a = n->as_array();
             if (!a) r.fail("snapshots", n, "must be an array of iteration numbers");
+            if (a->size() > 32) r.fail("snapshots", n, "must list at most 32 iterations");
             for (const toml::node& e : *a) g.snapshots.push_back(int(r.toInteger("snapshots", e, 0, 1000000)));
         }
         r.finish({"enabled", "iterations", "p_rate", "p_rate_channel", "w0", "wa", "m", "pressure_scale",

@@ -194,6 +194,9 @@ TEST(Scenario, SizesThatWouldBreakTheRunAreRefused) {
     std::string many = kBase;
     for (int i = 0; i < 257; ++i) many += "[[source]]\nat = [1, 1, 1]\n";
     expectError(many, {"key 'source'", "at most 256"});
+    std::string snaps = std::string(kBase) + "snapshots = [";
+    for (int i = 0; i < 33; ++i) snaps += std::to_string(i) + ", ";
+    expectError(snaps + "]\n", {"stage2.snapshots", "at most 32"});
 }
 
 TEST(Scenario, OnlyRegularFilesAreRead) {
