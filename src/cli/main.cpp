@@ -2,6 +2,7 @@
 //   0 ok, 1 runtime failure, 2 bad input (scenario, arguments, output directory).
 #include <cstdio>
 #include <iostream>
+#include <new>
 
 #include <CLI/CLI.hpp>
 
@@ -59,6 +60,10 @@ int main(int argc, char** argv) {
     } catch (const InputError& e) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());
         return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "cavesim: failed: out of memory (the run needs more than this process may use: "
+                             "a smaller [domain] size, image_width or fewer snapshots need less)\n");
+        return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "cavesim: failed: %s\n", e.what());
         return 1;

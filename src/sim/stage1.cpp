@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -14,8 +15,10 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "fastmarch/fast_marching.h"
 #include "flownet/flow_network.h"
 #include "flownet/max_flow.h"
@@ -125,6 +128,22 @@ Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const
                              " MB. Raise max_graph_voxels (up to 1e9) if the memory is there, or add sources to "
                              "split the domain into smaller zones");
         }
+    }
+    // Zones are solved in parallel: the largest ones that can run at once must fit in memory.
+    {
+        std::vector<long> sizes(result.zoneVoxels.begin(), result.zoneVoxels.end());
+        std::sort(sizes.begin(), sizes.end(), std::greater<>());
+        const std::size_t atOnce = std::min<std::size_t>(sizes.size(), std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
+        double need = 0;
+        for (std::size_t k = 0; k < atOnce; ++k) need += double(sizes[k]) * kBytesPerVoxel;
+        const double limit = memoryLimitBytes();
+        if (limit > 0 && need > 0.8 * limit)
+            throw InputError(scenario.path + ": stage 1 would need about " + withThousands(long(need / 1e6)) +
+                             " MB for the flow networks of its " + std::to_string(atOnce) +
+                             " largest pressure zone(s) solved at once, more than 80 % of the " +
+                             withThousands(long(limit / 1e6)) +
+                             " MB this process may use; make the domain smaller, add sources to split it into "
+                             "smaller zones, or run with fewer threads (--threads)");
     }
 
     // 2. Sources and protosinks per zone (sequential: the random cluster centres come from rng

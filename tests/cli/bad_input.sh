@@ -75,4 +75,20 @@ expect_exit 2 "--out under a file refused" -- "$CAVESIM" run good.toml --out afi
 stderr_has "is not a directory"
 for o in o7 o8 o9 o10; do [ -e $o ] && fail "$o was created"; done
 [ -f good.toml ] && [ -d adir ] && pass "nothing removed by the refused runs" || fail "files went missing"
+# A stage 1 whose flow networks would not fit in the memory this process may use is refused before
+# they are built (2.1 M voxels in one zone need about 940 MB; the address space is capped at 1 GB).
+cat > bigzone.toml <<'TOML'
+[domain]
+size = [128, 128, 128]
+[[source]]
+at = [0, 0, 127]
+[stage2]
+enabled = false
+[output]
+images = false
+mesh = false
+TOML
+expect_exit 2 "stage 1 larger than the memory limit" -- bash -c "ulimit -v 1000000; exec \"$CAVESIM\" run bigzone.toml --out o11 -q"
+stderr_has "this process may use"
+[ ! -e o11 ] && pass "no output for the refused stage 1" || fail "o11 was created"
 finish
