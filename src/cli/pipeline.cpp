@@ -98,6 +98,7 @@ PipelineResult runPipeline(const Scenario& s, int threads, const OutputDir& dir,
                 std::to_string(rec.timing.stage2).substr(0, 5) + " s");
     }
     writeStateVdb(dir.file("state.vdb").string(), dom, s.stage2.enabled);
+    rec.files["state.vdb"] = fileFingerprint(dir.file("state.vdb").string());
 
     const auto tm = Clock::now();
     mesh::MeshOptions mo;

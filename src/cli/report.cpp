@@ -224,6 +224,7 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
+    j["files"] = rec.files;
     j["checksums"] = {{"porosity", checksum(dom.porosity)},
                       {"pressure", checksum(dom.pressure)},
                       {"flow", checksum(dom.flow)},
@@ -354,6 +355,22 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
           "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`.\n";
     return md.str();
+}
+
+nlohmann::json fileFingerprint(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw RuntimeError("cannot read " + path);
+    std::uint64_t h = 1469598103934665603ull, bytes = 0;
+    char buf[1 << 16];
+    while (in) {
+        in.read(buf, sizeof buf);
+        const std::streamsize n = in.gcount();
+        for (std::streamsize b = 0; b < n; ++b) h = (h ^ static_cast<unsigned char>(buf[b])) * 1099511628211ull;
+        bytes += std::uint64_t(n);
+    }
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return {{"bytes", bytes}, {"fnv1a64", hex}};
 }
 
 void writeFileAtomic(const std::string& path, const std::string& text) {

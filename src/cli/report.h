@@ -34,6 +34,7 @@ struct RunRecord {
     Timing timing;
     nlohmann::json mesh;      ///< mesh statistics (null when no mesh was written)
     nlohmann::json analysis;  ///< {network, morphometry, graph_metrics, skeleton, category}
+    nlohmann::json files = nlohmann::json::object();  ///< fingerprints of written files, by name
     nlohmann::json json;      ///< filled by writeReport: the report.json document
 };
 
@@ -67,6 +68,11 @@ std::string paperIndexText(const PaperCave& paper, int row);
 
 /// A report value as text: integers as they are, reals to `digits` significant digits, null "–".
 std::string formatValue(const nlohmann::json& v, int digits = 3);
+
+/// Size and FNV-1a 64 checksum of a file's bytes, {"bytes": n, "fnv1a64": "hex"}: `cavesim report`
+/// checks state.vdb against it before handing the file to OpenVDB, which does not survive damage.
+/// @throw RuntimeError if the file cannot be read
+nlohmann::json fileFingerprint(const std::string& path);
 
 /// Writes `text` to `path` through a temporary file in the same directory and a rename.
 void writeFileAtomic(const std::string& path, const std::string& text);

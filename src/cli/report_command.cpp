@@ -1,10 +1,16 @@
 // `cavesim report DIR` (rebuild the report of a run from its files) and `cavesim reproduce`
 // (run the paper's figure scenarios and write docs/reproduction.md).
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
+
+#include <unistd.h>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -27,30 +33,79 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 nlohmann::json readJsonIfPresent(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return nlohmann::json::object();
+    if (!fs::is_regular_file(path, ec)) throw InputError(path.string() + ": not a regular file");
     std::ifstream in(path);
-    if (!in) return nlohmann::json::object();
+    if (!in) throw InputError(path.string() + ": cannot be read");
+    nlohmann::json j;
     try {
-        return nlohmann::json::parse(in);
+        j = nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception& e) {
         throw InputError(path.string() + ": not valid JSON (" + e.what() + ")");
     }
+    if (!j.is_object()) throw InputError(path.string() + ": not a cavesim report (a JSON object is expected)");
+    return j;
+}
+
+std::string shortNumber(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
+
+/// Throws unless every value of `g` satisfies `ok`: a grid that holds what no run writes is damage.
+template <typename T, typename Ok>
+void checkGrid(const Grid3<T>& g, const std::string& vdb, const char* name, const char* allowed, Ok ok) {
+    for (std::size_t v = 0; v < g.size(); ++v)
+        if (!ok(g[v]))
+            throw InputError(vdb + ": grid '" + name + "' holds " + shortNumber(double(g[v])) + " at voxel " +
+                             std::to_string(v) + " (" + allowed + "): the file is damaged; rerun `cavesim run`");
 }
 
 /// A run's domain as it was written: grids from state.vdb, sources and sinks from the scenario.
-Domain loadRunDomain(const fs::path& dir, const Scenario& s) {
+Domain loadRunDomain(const fs::path& dir, const Scenario& s, const nlohmann::json& report) {
+    const std::string vdb = (dir / "state.vdb").string();
+    // OpenVDB does not survive a damaged file; the run recorded the file's size and checksum.
+    if (report.contains("files") && report["files"].is_object() && report["files"].contains("state.vdb")) {
+        const nlohmann::json now = fileFingerprint(vdb), then = report["files"]["state.vdb"];
+        if (now != then)
+            throw InputError(vdb + ": changed since the run wrote it (now " + now.dump() + ", report.json recorded " +
+                             then.dump() + "); rerun `cavesim run`");
+    }
     Rng rng(s.seed);
     Domain dom = buildDomain(s, rng);
-    const std::string vdb = (dir / "state.vdb").string();
-    dom.porosity = mesh::readVdbFloat(vdb, "porosity", dom.dims);
-    dom.porosity0 = mesh::readVdbFloat(vdb, "porosity0", dom.dims);
-    dom.zone = mesh::readVdbInt(vdb, "zone", dom.dims);
-    const Grid3<std::int32_t> flags = mesh::readVdbInt(vdb, "flags", dom.dims);
-    for (std::size_t v = 0; v < flags.size(); ++v) dom.flags[v] = std::uint8_t(flags[v]);
-    if (s.stage2.enabled) {
-        dom.pressure = mesh::readVdbFloat(vdb, "pressure", dom.dims);
-        dom.flow = mesh::readVdbFloat(vdb, "flow", dom.dims);
-        dom.water = mesh::readVdbFloat(vdb, "water", dom.dims);
+    try {
+        dom.porosity = mesh::readVdbFloat(vdb, "porosity", dom.dims);
+        dom.porosity0 = mesh::readVdbFloat(vdb, "porosity0", dom.dims);
+        dom.zone = mesh::readVdbInt(vdb, "zone", dom.dims);
+        const Grid3<std::int32_t> flags = mesh::readVdbInt(vdb, "flags", dom.dims);
+        checkGrid(flags, vdb, "flags", "flags are 0-255", [](std::int32_t f) { return f >= 0 && f <= 255; });
+        for (std::size_t v = 0; v < flags.size(); ++v) dom.flags[v] = std::uint8_t(flags[v]);
+        if (s.stage2.enabled) {
+            dom.pressure = mesh::readVdbFloat(vdb, "pressure", dom.dims);
+            dom.flow = mesh::readVdbFloat(vdb, "flow", dom.dims);
+            dom.water = mesh::readVdbFloat(vdb, "water", dom.dims);
+        }
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw InputError(vdb + ": cannot be read (it asks for more memory than there is): the file is damaged");
+    } catch (const std::exception& e) {
+        throw InputError(vdb + ": cannot be read (" + e.what() + "): damaged, or not written by `cavesim run`");
     }
+    const auto unit = [](float r) { return r >= 0.f && r <= 1.f; };  // false for NaN
+    const auto nonNegative = [](float r) { return std::isfinite(r) && r >= 0.f; };
+    checkGrid(dom.porosity, vdb, "porosity", "porosity is in [0, 1]", unit);
+    checkGrid(dom.porosity0, vdb, "porosity0", "porosity is in [0, 1]", unit);
+    const int nSources = int(s.sources.size());
+    checkGrid(dom.zone, vdb, "zone", "zones are -1 or a source index",
+              [nSources](std::int32_t z) { return z >= -1 && z < nSources; });
+    checkGrid(dom.pressure, vdb, "pressure", "pressure is finite and not negative", nonNegative);
+    checkGrid(dom.flow, vdb, "flow", "flow is finite and not negative", nonNegative);
+    // Water is stored to round-off: a transfer that empties a voxel can leave -1e-18.
+    checkGrid(dom.water, vdb, "water", "water is finite and not below -1e-6",
+              [](float w) { return std::isfinite(w) && w >= -1e-6f; });
     return dom;
 }
 
@@ -65,8 +120,16 @@ int reportCommand(const std::string& dirArg) {
             throw InputError((dir / f).string() + ": missing; `cavesim report` needs the files a run writes");
     const auto t0 = Clock::now();
     const Scenario s = parseScenarioFile((dir / "scenario.toml").string());
-    const Domain dom = loadRunDomain(dir, s);
     nlohmann::json report = readJsonIfPresent(dir / "report.json");
+    // Everything this command rewrites must be a file (or absent), so it does not stop half-way.
+    for (const char* f : {"report.json", "report.md", "skeleton.json", "skeleton_nodes.dat", "skeleton_links.dat"}) {
+        std::error_code ec;
+        if (fs::exists(dir / f, ec) && !fs::is_regular_file(dir / f, ec))
+            throw InputError((dir / f).string() + ": not a regular file; `cavesim report` rewrites it");
+    }
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        throw InputError(dirArg + ": cannot write in it (" + std::strerror(errno) + ")");
+    const Domain dom = loadRunDomain(dir, s, report);
 
     // The stage-2 connection iterations date the captures; they come from the run's report.
     std::vector<std::optional<int>> connected;
@@ -83,6 +146,7 @@ int reportCommand(const std::string& dirArg) {
     report["voxel_size_m"] = s.voxelSize;
     report["seed"] = s.seed;
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"}) report[k] = a[k];
+    if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
     report["timing_s"]["report"] = std::chrono::duration<double>(Clock::now() - t0).count();
     writeFileAtomic((dir / "report.json").string(), report.dump(2) + "\n");
     writeFileAtomic((dir / "report.md").string(), buildReportMarkdown(s, report, dir.string()));

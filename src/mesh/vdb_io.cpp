@@ -1,5 +1,10 @@
 #include "mesh/vdb_io.h"
 
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+
 #include <openvdb/openvdb.h>
 
 #include "core/error.h"
@@ -51,6 +56,41 @@ Grid3<T> gridToDense(const std::string& path, const std::string& name, const Dim
     return out;
 }
 
+/// OpenVDB stamps every file with a random UUID, so two runs of the same scenario would write
+/// different bytes. The UUID is the 36 characters after the header's magic number, three version
+/// numbers and a flag (byte 21 on). It is replaced by one derived from the rest of the file: the
+/// same grids give the same file, and different contents still get different tags. A header that
+/// does not look as expected is left alone.
+void makeUuidDeterministic(const std::string& path) {
+    constexpr std::size_t kAt = 21, kLen = 36;
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    if (!f) return;
+    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    if (bytes.size() < kAt + kLen) return;
+    for (std::size_t c = 0; c < kLen; ++c) {
+        const char ch = bytes[kAt + c];
+        const bool dash = c == 8 || c == 13 || c == 18 || c == 23;
+        if (dash ? ch != '-' : !std::isxdigit(static_cast<unsigned char>(ch))) return;
+    }
+    std::uint64_t h[2] = {1469598103934665603ull, 0x9e3779b97f4a7c15ull};
+    for (std::size_t b = 0; b < bytes.size(); ++b) {
+        if (b >= kAt && b < kAt + kLen) continue;
+        const auto u = static_cast<unsigned char>(bytes[b]);
+        h[0] = (h[0] ^ u) * 1099511628211ull;
+        h[1] = (h[1] ^ u) * 0x100000001b3ull + 0x632be59bd9b4e019ull;
+    }
+    char uuid[40];
+    // Version-4 layout (the "4" and the variant nibble kept), hex digits from the two hashes.
+    std::snprintf(uuid, sizeof uuid, "%08llx-%04llx-4%03llx-%04llx-%012llx",
+                  static_cast<unsigned long long>(h[0] >> 32), static_cast<unsigned long long>((h[0] >> 16) & 0xffff),
+                  static_cast<unsigned long long>(h[0] & 0xfff),
+                  static_cast<unsigned long long>(0x8000 | ((h[1] >> 48) & 0x3fff)),
+                  static_cast<unsigned long long>(h[1] & 0xffffffffffffull));
+    f.clear();
+    f.seekp(std::streamoff(kAt));
+    f.write(uuid, std::streamsize(kLen));
+}
+
 }  // namespace
 
 void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, double voxelSize) {
@@ -73,6 +113,7 @@ void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, doub
     } catch (const openvdb::Exception& e) {
         throw RuntimeError("cannot write " + path + ": " + e.what());
     }
+    makeUuidDeterministic(path);
 }
 
 Grid3<float> readVdbFloat(const std::string& path, const std::string& name, const Dims& dims) {

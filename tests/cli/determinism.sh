@@ -17,4 +17,8 @@ def strip(r):
 a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
 assert a == b
 PY
+for f in state.vdb stage1.vdb cave.ply cave.obj skeleton.json; do
+  [ -e "a/$f" ] || continue
+  cmp -s "a/$f" "b/$f" && pass "$f identical" || fail "$f differs between 1 and 2 threads"
+done
 finish

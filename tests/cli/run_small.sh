@@ -28,4 +28,21 @@ for k in ("network", "morphometry", "graph_metrics", "stage2"):
     assert a[k] == b[k], k
 PY
 expect_exit 2 "report of a folder that is no run" -- "$CAVESIM" report .
+# A damaged run folder is refused with exit 2 and left as it was: a state.vdb changed since the run
+# (OpenVDB itself does not survive damage), a report.json that is no report, a report.md that
+# cannot be rewritten.
+cp -r r damaged && cp damaged/report.json damaged-before.json
+python3 - damaged/state.vdb <<'PY'
+import sys
+b = bytearray(open(sys.argv[1], "rb").read()); b[len(b) // 2] ^= 0x5A; open(sys.argv[1], "wb").write(b)
+PY
+expect_exit 2 "report refuses a changed state.vdb" -- "$CAVESIM" report damaged
+stderr_has "changed since the run wrote it"
+cmp -s damaged/report.json damaged-before.json && pass "report.json untouched" || fail "report.json rewritten"
+cp r/state.vdb damaged/state.vdb && echo '[1, 2]' > damaged/report.json
+expect_exit 2 "report refuses a report.json that is no report" -- "$CAVESIM" report damaged
+stderr_has "not a cavesim report"
+cp damaged-before.json damaged/report.json && rm damaged/report.md && mkdir damaged/report.md
+expect_exit 2 "report refuses an unwritable report.md" -- "$CAVESIM" report damaged
+cmp -s damaged/report.json damaged-before.json && pass "nothing rewritten before the refusal" || fail "report.json rewritten"
 finish
