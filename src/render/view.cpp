@@ -626,8 +626,8 @@ void drawVoxelBox(Image& img, const Frame& f, const VoxelBoxInfo& b, Rgb c, doub
         if (x1 - x0 < minPx && y1 - y0 < minPx) return;
         const int xa = int(std::lround(x0)), ya = int(std::lround(y0));
         const int w = int(std::lround(x1)) - xa, h = int(std::lround(y1)) - ya;
-        for (int y = ya; y < ya + h; ++y)
-            for (int x = xa; x < xa + w; ++x) img.blend(x, y, c, 0.25);
+        for (int y = std::max(ya, 0); y < std::min(ya + h, img.height); ++y)
+            for (int x = std::max(xa, 0); x < std::min(xa + w, img.width); ++x) img.blend(x, y, c, 0.25);
         drawRect(img, xa, ya, w, h, c, std::max(1, f.textScale / 2 + 1));
         return;
     }
@@ -650,10 +650,18 @@ void drawSourcesAndSinks(Image& img, const Frame& f, const Domain& domain) {
     const int ts = f.textScale;
     const double r = 3.0 * ts + 2.0;
     const double h = f.voxelSize;
+    // A box shared by several terminals (sources given at the same voxels) is shaded once.
+    std::vector<std::pair<std::array<double, 6>, Rgb>> drawn;
     auto place = [&](const std::vector<std::size_t>& voxels, Rgb c, Marker marker, const std::string& label) {
         if (voxels.empty()) return;
         const VoxelBoxInfo b = voxelBox(voxels, domain.dims, h);
-        drawVoxelBox(img, f, b, c, 2.5 * r);
+        const std::array<double, 6> key{b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
+        bool seen = false;
+        for (const auto& [k, col] : drawn) seen = seen || (k == key && col == c);
+        if (!seen) {
+            drawVoxelBox(img, f, b, c, 2.5 * r);
+            drawn.push_back({key, c});
+        }
         const auto p = f.camera.project(b.centre);
         drawMarker(img, p.x, p.y, r, marker, c, colours::kWhite);
         // Label up and to the right, or to the left where it would leave the picture.
