@@ -235,8 +235,11 @@ public:
             std::ostringstream os;
             os << file_;
             if (k.source().begin.line > 0) os << ":" << k.source().begin.line;
-            os << ": unknown key '" << qualified(key) << "' = " << describe(v) << ": allowed keys here are "
-               << list;
+            // The key as written, escaped and shortened: the message stays one readable line.
+            std::string shown = quoted(qualified(key));
+            shown = shown.substr(1, shown.size() - 2);
+            if (shown.size() > 60) shown = shown.substr(0, 57) + "...";
+            os << ": unknown key '" << shown << "' = " << describe(v) << ": allowed keys here are " << list;
             throw InputError(os.str());
         }
     }

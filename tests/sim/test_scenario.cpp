@@ -178,6 +178,10 @@ TEST(Scenario, ErrorsQuoteValuesAsWritten) {
     const std::string msg = errorOf(std::string("name = \"a\\nb\\u0001\"\n") + (kBase + 10));
     EXPECT_NE(msg.find("\"a\\nb\\u0001\""), std::string::npos) << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    // An unknown key is echoed escaped and shortened.
+    const std::string longKey = errorOf(std::string(kBase) + std::string(5000, 'k') + " = 1\n");
+    EXPECT_LT(longKey.size(), 400u) << longKey.size();
+    EXPECT_NE(longKey.find("kkk..."), std::string::npos) << longKey;
 }
 
 TEST(Scenario, RockRateBelowTheDefaultChannelRateBlamesTheKeyInTheFile) {
