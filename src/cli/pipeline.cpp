@@ -122,7 +122,10 @@ PipelineResult runPipeline(const Scenario& s, int threads, const OutputDir& dir,
     rec.timing.report = since(tr);
     rec.timing.total = since(t0);
     writeReport(s, dom, rec, dir.file("").string());
-    writeTextFile(dir.file("scenario.toml"), scenarioToToml(s));
+    // The effective scenario also records the state.vdb it produced (a comment, ignored by the
+    // parser), so `cavesim report` can check the file even when report.json is gone.
+    writeTextFile(dir.file("scenario.toml"),
+                  scenarioToToml(s) + "# state.vdb: " + rec.files["state.vdb"].dump() + "\n");
 
     PipelineResult out;
     out.totalSeconds = since(t0);

@@ -54,6 +54,21 @@ std::string shortNumber(double v) {
     return buf;
 }
 
+/// The `# state.vdb: {...}` comment a run appends to its scenario.toml, or null.
+nlohmann::json recordedInScenario(const fs::path& scenario) {
+    std::ifstream in(scenario);
+    const std::string tag = "# state.vdb: ";
+    for (std::string line; std::getline(in, line);) {
+        if (line.compare(0, tag.size(), tag) != 0) continue;
+        try {
+            return nlohmann::json::parse(line.substr(tag.size()));
+        } catch (const nlohmann::json::exception&) {
+            return nullptr;
+        }
+    }
+    return nullptr;
+}
+
 /// Throws unless every value of `g` satisfies `ok`: a grid that holds what no run writes is damage.
 template <typename T, typename Ok>
 void checkGrid(const Grid3<T>& g, const std::string& vdb, const char* name, const char* allowed, Ok ok) {
@@ -66,11 +81,17 @@ void checkGrid(const Grid3<T>& g, const std::string& vdb, const char* name, cons
 /// A run's domain as it was written: grids from state.vdb, sources and sinks from the scenario.
 Domain loadRunDomain(const fs::path& dir, const Scenario& s, const nlohmann::json& report) {
     const std::string vdb = (dir / "state.vdb").string();
-    // OpenVDB does not survive a damaged file; the run recorded the file's size and checksum.
-    if (report.contains("files") && report["files"].is_object() && report["files"].contains("state.vdb")) {
-        const nlohmann::json now = fileFingerprint(vdb), then = report["files"]["state.vdb"];
+    // OpenVDB does not survive a damaged file; the run recorded the file's size and checksum in
+    // report.json and in a comment of scenario.toml.
+    nlohmann::json then;
+    if (report.contains("files") && report["files"].is_object() && report["files"].contains("state.vdb"))
+        then = report["files"]["state.vdb"];
+    else
+        then = recordedInScenario(dir / "scenario.toml");
+    if (!then.is_null()) {
+        const nlohmann::json now = fileFingerprint(vdb);
         if (now != then)
-            throw InputError(vdb + ": changed since the run wrote it (now " + now.dump() + ", report.json recorded " +
+            throw InputError(vdb + ": changed since the run wrote it (now " + now.dump() + ", the run recorded " +
                              then.dump() + "); rerun `cavesim run`");
     }
     Rng rng(s.seed);

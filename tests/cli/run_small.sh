@@ -39,6 +39,10 @@ PY
 expect_exit 2 "report refuses a changed state.vdb" -- "$CAVESIM" report damaged
 stderr_has "changed since the run wrote it"
 cmp -s damaged/report.json damaged-before.json && pass "report.json untouched" || fail "report.json rewritten"
+mv damaged/report.json damaged/report.json.away
+expect_exit 2 "without report.json, scenario.toml's record still catches it" -- "$CAVESIM" report damaged
+stderr_has "changed since the run wrote it"
+mv damaged/report.json.away damaged/report.json
 cp r/state.vdb damaged/state.vdb && echo '[1, 2]' > damaged/report.json
 expect_exit 2 "report refuses a report.json that is no report" -- "$CAVESIM" report damaged
 stderr_has "not a cavesim report"
