@@ -4,6 +4,7 @@
 #include "fastmarch/fast_marching.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -63,11 +64,36 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value[n]; };
     const bool diagonal = stencil == Stencil::kAvalanche26;
+    // Linear offsets of the 26 neighbours: a voxel off the block's faces needs no bounds checks.
+    std::array<std::ptrdiff_t, 26> offset{};
+    for (std::size_t n = 0; n < 26; ++n) {
+        const NeighbourOffset& o = allNeighbours()[n];
+        offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
+    }
+    const auto lower = [&](std::size_t r, double u) {
+        if (u < value[r]) {
+            value[r] = u;
+            heap.push({u, r});
+            if (touched && !(*touched)[r]) {
+                (*touched)[r] = 1;
+                ++changes;
+            }
+        }
+    };
     while (!heap.empty()) {
         const auto [v, q] = heap.top();
         heap.pop();
         if (v != value[q]) continue;  // stale entry
         const Index3 p = d.coord(q);
+        if (diagonal && p.i > 0 && p.j > 0 && p.k > 0 && p.i + 1 < d.nx && p.j + 1 < d.ny && p.k + 1 < d.nz) {
+            // Interior fast path: the same neighbours in the same order, without coordinates.
+            for (std::size_t n = 0; n < 26; ++n) {
+                const std::size_t r = std::size_t(std::ptrdiff_t(q) + offset[n]);
+                if (seed[r] || value[r] <= v) continue;  // only larger values can be lowered by q
+                lower(r, std::min(cap, v + double(slowness[r]) * allNeighbours()[n].length));
+            }
+            continue;
+        }
         const auto visit = [&](const NeighbourOffset& o) {
             const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
             if (!d.contains(i, j, k)) return;
@@ -81,14 +107,7 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
                 axisMinima(d, {i, j, k}, get, ax, ay, az);
                 u = std::min(cap, upwindUpdate(ax, ay, az, slowness[r]));
             }
-            if (u < value[r]) {
-                value[r] = u;
-                heap.push({u, r});
-                if (touched && !(*touched)[r]) {
-                    (*touched)[r] = 1;
-                    ++changes;
-                }
-            }
+            lower(r, u);
         };
         if (diagonal) {
             for (const auto& o : allNeighbours()) visit(o);
