@@ -40,6 +40,20 @@ for variant in plain mirror pad; do
     'n["sources_connected"] == n["sources_total"] == 3 and n["phreatic_loops"] == 0 and n["confluences"] == 0 and n["tributary_captures"] == 0 and all(p["join_m"] is None for p in n["paths"])' \
     && pass "fig09 $variant: each channel reaches the sink on its own, no loops" || fail "fig09 $variant"
 done
+# The mode is set by the rate ratio, not by a knife-edge at the paper's two values: the same
+# section gives separate channels at p_rate 0.002 and 0.003 and linking through loops at 0.005 and 0.01.
+for rate in 0.002 0.003 0.005 0.01; do
+  sed "s/^p_rate = 0.0025$/p_rate = $rate/" "$SRC/scenarios/fig09.toml" > "rate-$rate.toml"
+  expect_exit 0 "p_rate $rate runs" -- "$CAVESIM" run "rate-$rate.toml" --out "rate-$rate" -q
+done
+for rate in 0.002 0.003; do
+  check "rate-$rate/report.json" 'n["sources_connected"] == 3 and n["phreatic_loops"] == 0 and n["confluences"] == 0' \
+    && pass "p_rate $rate: separate channels" || fail "p_rate $rate"
+done
+for rate in 0.005 0.01; do
+  check "rate-$rate/report.json" 'n["sources_connected"] == 3 and n["phreatic_loops"] >= 1 and n["tributary_captures"] >= 1' \
+    && pass "p_rate $rate: linking through loops" || fail "p_rate $rate"
+done
 # Paper §3.2: the result stays the same while the ratio of the rates is unchanged. Rates and source
 # pressures × 4 (exact in floating point) must give the same cave bit for bit.
 python3 - "$SRC/scenarios/fig09.toml" fig09-x4.toml <<'PY'
