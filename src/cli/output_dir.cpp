@@ -1,6 +1,7 @@
 #include "cli/output_dir.h"
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <fstream>
@@ -25,9 +26,12 @@ bool isSameOrAncestor(const fs::path& a, const fs::path& b) {
 }
 
 /// Staging (`.NAME.partial-PID`) and set-aside (`.NAME.old-PID`) directories of runs that no longer
-/// exist (killed before they could clean up) are removed; those of live runs are left alone.
+/// exist (killed before they could clean up) are removed; those of live runs are left alone. A
+/// directory must also be untouched for ten minutes: on a shared file system the PID may belong to
+/// another machine.
 void removeStaleSiblings(const fs::path& parent, const std::string& name) {
     std::error_code ec;
+    const auto settled = fs::file_time_type::clock::now() - std::chrono::minutes(10);
     for (const auto& e : fs::directory_iterator(parent, ec)) {
         const std::string f = e.path().filename().string();
         for (const std::string tag : {".partial-", ".old-"}) {
@@ -35,8 +39,11 @@ void removeStaleSiblings(const fs::path& parent, const std::string& name) {
             if (f.size() <= prefix.size() || f.compare(0, prefix.size(), prefix) != 0) continue;
             const std::string pid = f.substr(prefix.size());
             if (pid.find_first_not_of("0123456789") != std::string::npos || pid.size() > 9) continue;
+            std::error_code ec2;
+            if (e.is_symlink(ec2) || !e.is_directory(ec2)) continue;  // only real directories
+            const auto modified = fs::last_write_time(e.path(), ec2);
+            if (ec2 || modified > settled) continue;
             if (::kill(pid_t(std::stol(pid)), 0) == -1 && errno == ESRCH) {
-                std::error_code ec2;
                 fs::remove_all(e.path(), ec2);
             }
         }

@@ -11,11 +11,18 @@ mkdir empty
 expect_exit 0 "empty --out accepted" -- "$CAVESIM" run s.toml --out empty -q
 [ -f empty/report.json ] && pass "written into empty dir" || fail "empty/ lacks report.json"
 [ -z "$(ls -A | grep '^\.')" ] && pass "no staging leftovers" || fail "staging leftovers: $(ls -A)"
-# A staging directory left by a killed run (its PID no longer exists) is removed by the next run
-# into the same place; one of a live process is left alone.
-mkdir -p .again.partial-999999999 .again.partial-1 && echo half > .again.partial-999999999/report.json
+# A staging directory left by a killed run (its PID no longer exists, untouched for ten minutes) is
+# removed by the next run into the same place; one of a live process, a fresh one, a file and a
+# symlink of the same name pattern are left alone.
+mkdir -p .again.partial-999999999 .again.partial-1 .again.partial-999999998 keepme
+echo half > .again.partial-999999999/report.json
+touch -d '1 hour ago' .again.partial-999999999 .again.partial-1
+echo mine > keepme/file && ln -s keepme .again.partial-999999997 && echo x > .again.old-999999996
 expect_exit 0 "run next to stale staging dirs" -- "$CAVESIM" run s.toml --out again -q
 [ ! -e .again.partial-999999999 ] && pass "stale staging dir removed" || fail "stale staging dir kept"
 [ -d .again.partial-1 ] && pass "live process's staging dir kept" || fail "removed a live staging dir"
-rm -rf .again.partial-1
+[ -d .again.partial-999999998 ] && pass "fresh staging dir kept" || fail "removed a fresh staging dir"
+[ -L .again.partial-999999997 ] && [ "$(cat keepme/file)" = mine ] && [ -f .again.old-999999996 ] \
+  && pass "symlink, its target and a file left alone" || fail "touched a symlink or file"
+rm -rf .again.partial-1 .again.partial-999999998 .again.partial-999999997 .again.old-999999996 keepme
 finish
