@@ -12,7 +12,7 @@ struct RunOptions {
     std::optional<std::string> scenarioPath;  ///< empty: the built-in default (fig10)
     std::string outDir;                       ///< empty: out/<scenario name>
     int threads = 0;                          ///< 0: all cores
-    std::optional<std::uint64_t> seed;        ///< overrides the scenario's seed
+    std::optional<std::string> seed;          ///< overrides the scenario's seed (checked by runCommand)
     bool force = false;
     bool quiet = false;
     std::string meshStyle;                    ///< empty: the scenario's [output] mesh_style

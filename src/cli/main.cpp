@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     runCmd->add_option("--out,-o", run.outDir, "Output directory (default out/<scenario name>)");
     runCmd->add_option("--threads,-j", run.threads, "Worker threads (default: all cores); results do not depend on it")
         ->check(CLI::Range(1, 1024));
-    runCmd->add_option("--seed", run.seed, "Override the scenario's seed");
+    runCmd->add_option("--seed", run.seed, "Override the scenario's seed: a whole number in [0, 2^63 - 1]");
     runCmd->add_flag("--force,-f", run.force, "Replace a non-empty output directory");
     runCmd->add_option("--mesh-style", run.meshStyle, "smooth (default) or voxel (also writes the blocky mesh)")
         ->check(CLI::IsMember({"smooth", "voxel"}));

@@ -5,8 +5,10 @@
 #include <csignal>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <system_error>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/error.h"
@@ -50,10 +52,42 @@ void removeStaleSiblings(const fs::path& parent, const std::string& name) {
     }
 }
 
+/// True when `dir` (absolute, normalised) is a mount point: another device than its parent, or
+/// listed in /proc/self/mountinfo (a bind mount keeps its device).
+bool isMountPoint(const fs::path& dir) {
+    struct stat here {}, above {};
+    if (::stat(dir.c_str(), &here) == 0 && ::stat(dir.parent_path().c_str(), &above) == 0 &&
+        here.st_dev != above.st_dev)
+        return true;
+    std::ifstream info("/proc/self/mountinfo");
+    for (std::string line; std::getline(info, line);) {
+        // Fields: id parent major:minor root mount-point ...; spaces in paths are written as \040.
+        std::istringstream fields(line);
+        std::string field;
+        for (int n = 0; n < 5; ++n) fields >> field;
+        std::string point;
+        for (std::size_t c = 0; c < field.size(); ++c) {
+            const bool octal = field[c] == '\\' && c + 3 < field.size() &&
+                               field.find_first_not_of("01234567", c + 1) >= c + 4;
+            if (octal) {
+                point += char(std::stoi(field.substr(c + 1, 3), nullptr, 8));
+                c += 3;
+            } else {
+                point += field[c];
+            }
+        }
+        if (fs::path(point) == dir) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
     std::error_code ec;
+    // A symlink that leads nowhere (dangling, or a loop) cannot be replaced by a directory.
+    if (fs::is_symlink(fs::symlink_status(target, ec)) && !fs::exists(target, ec))
+        throw InputError("--out " + target.string() + ": a symlink that leads nowhere (dangling or a loop)");
     // Absolute and normalised, so ".", "dir/" and "a/../b" name what they mean.
     target_ = fs::weakly_canonical(fs::absolute(target, ec), ec);
     if (ec || target_.empty()) target_ = fs::absolute(target).lexically_normal();
@@ -65,6 +99,10 @@ OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
                                  "directory of its own for the results");
     if (fs::exists(target_, ec)) {
         if (!fs::is_directory(target_, ec)) throw InputError(shown + ": exists and is not a directory");
+        // Results are written beside the target and renamed into place: a mount point cannot be.
+        if (isMountPoint(target_))
+            throw InputError(shown + ": is a mount point; results are written beside it and moved into place, "
+                                     "which a mount point does not allow; give a directory inside it");
         if (!fs::is_empty(target_, ec) && !force_)
             throw InputError(shown + ": directory exists and is not empty; pass --force to replace it");
     }

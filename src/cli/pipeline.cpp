@@ -98,7 +98,11 @@ PipelineResult runPipeline(const Scenario& s, int threads, const OutputDir& dir,
                 std::to_string(rec.timing.stage2).substr(0, 5) + " s");
     }
     writeStateVdb(dir.file("state.vdb").string(), dom, s.stage2.enabled);
-    rec.files["state.vdb"] = fileFingerprint(dir.file("state.vdb").string());
+    // What `cavesim report` checks before it trusts the file: its bytes and the grid it holds.
+    nlohmann::json stateRecord = fileFingerprint(dir.file("state.vdb").string());
+    stateRecord["grid"] = {s.size[0], s.size[1], s.size[2]};
+    stateRecord["voxel_size_m"] = s.voxelSize;
+    rec.files["state.vdb"] = stateRecord;
 
     const auto tm = Clock::now();
     mesh::MeshOptions mo;

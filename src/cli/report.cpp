@@ -373,23 +373,6 @@ nlohmann::json fileFingerprint(const std::string& path) {
     return {{"bytes", bytes}, {"fnv1a64", hex}};
 }
 
-void writeFileAtomic(const std::string& path, const std::string& text) {
-    const fs::path target(path);
-    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw RuntimeError("cannot write " + tmp.string());
-        out << text;
-        if (!out) throw RuntimeError("cannot write " + tmp.string());
-    }
-    std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw RuntimeError("cannot rename " + tmp.string() + " to " + target.string());
-    }
-}
-
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir) {
     rec.json = buildReportJson(s, dom, rec);
     writeFileAtomic((fs::path(dir) / "report.json").string(), rec.json.dump(2) + "\n");

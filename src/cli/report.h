@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/output_dir.h"
+#include "core/atomic_file.h"
 #include "sim/domain.h"
 #include "sim/scenario.h"
 #include "sim/stage1.h"
@@ -74,7 +75,5 @@ std::string formatValue(const nlohmann::json& v, int digits = 3);
 /// @throw RuntimeError if the file cannot be read
 nlohmann::json fileFingerprint(const std::string& path);
 
-/// Writes `text` to `path` through a temporary file in the same directory and a rename.
-void writeFileAtomic(const std::string& path, const std::string& text);
 
 }  // namespace cavesim::cli

@@ -81,19 +81,31 @@ void checkGrid(const Grid3<T>& g, const std::string& vdb, const char* name, cons
 /// A run's domain as it was written: grids from state.vdb, sources and sinks from the scenario.
 Domain loadRunDomain(const fs::path& dir, const Scenario& s, const nlohmann::json& report) {
     const std::string vdb = (dir / "state.vdb").string();
-    // OpenVDB does not survive a damaged file; the run recorded the file's size and checksum in
-    // report.json and in a comment of scenario.toml.
+    // OpenVDB does not survive a damaged file: the run recorded the file's size, checksum and grid
+    // in report.json and in the last line of scenario.toml; without a record the file is not read.
+    std::error_code ec;
+    if (!fs::is_regular_file(vdb, ec)) throw InputError(vdb + ": not a regular file; `cavesim report` needs the run's state.vdb");
+    const auto usable = [](const nlohmann::json& r) {
+        return r.is_object() && r.contains("bytes") && r["bytes"].is_number_unsigned() && r.contains("fnv1a64") &&
+               r["fnv1a64"].is_string() && r.contains("grid") && r["grid"].is_array() && r["grid"].size() == 3 &&
+               r.contains("voxel_size_m") && r["voxel_size_m"].is_number();
+    };
     nlohmann::json then;
     if (report.contains("files") && report["files"].is_object() && report["files"].contains("state.vdb"))
         then = report["files"]["state.vdb"];
-    else
-        then = recordedInScenario(dir / "scenario.toml");
-    if (!then.is_null()) {
-        const nlohmann::json now = fileFingerprint(vdb);
-        if (now != then)
-            throw InputError(vdb + ": changed since the run wrote it (now " + now.dump() + ", the run recorded " +
-                             then.dump() + "); rerun `cavesim run`");
-    }
+    if (!usable(then)) then = recordedInScenario(dir / "scenario.toml");
+    if (!usable(then))
+        throw InputError(vdb + ": no usable record of it (report.json `files` and the last line of scenario.toml "
+                               "are missing or damaged), so it cannot be checked before reading; rerun `cavesim run`");
+    const nlohmann::json now = fileFingerprint(vdb);
+    if (now["bytes"] != then["bytes"] || now["fnv1a64"] != then["fnv1a64"])
+        throw InputError(vdb + ": changed since the run wrote it (now " + now.dump() + ", the run recorded " +
+                         then.dump() + "); rerun `cavesim run`");
+    if (then["grid"] != nlohmann::json{s.size[0], s.size[1], s.size[2]} || then["voxel_size_m"] != s.voxelSize)
+        throw InputError((dir / "scenario.toml").string() + ": describes a grid of " + std::to_string(s.size[0]) +
+                         " x " + std::to_string(s.size[1]) + " x " + std::to_string(s.size[2]) + " voxels of " +
+                         shortNumber(s.voxelSize) + " m, but the run's state.vdb holds " + then["grid"].dump() +
+                         " of " + then["voxel_size_m"].dump() + " m: the scenario was edited; rerun `cavesim run`");
     Rng rng(s.seed);
     Domain dom = buildDomain(s, rng);
     try {

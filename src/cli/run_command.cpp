@@ -31,11 +31,16 @@ int validateCommand(const std::string& path) {
 int runCommand(const RunOptions& opt) {
     Scenario s = opt.scenarioPath ? parseScenarioFile(*opt.scenarioPath) : defaultScenario();
     if (opt.seed) {
-        // The effective scenario.toml must reproduce the run, and a file's seed is at most 2^63 - 1.
-        if (*opt.seed > std::uint64_t(std::numeric_limits<std::int64_t>::max()))
-            throw InputError("--seed " + std::to_string(*opt.seed) + ": must be a whole number in [0, " +
-                             std::to_string(std::numeric_limits<std::int64_t>::max()) + "]");
-        s.seed = *opt.seed;
+        // Digits only (no sign, no wrap-around), at most 2^63 - 1: the effective scenario.toml must
+        // hold the seed and reproduce the run.
+        const std::string& text = *opt.seed;
+        const std::string allowed = ": must be a whole number in [0, " +
+                                    std::to_string(std::numeric_limits<std::int64_t>::max()) + "]";
+        if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos)
+            throw InputError("--seed " + text + allowed);
+        const unsigned long long v = std::stoull(text);
+        if (v > std::uint64_t(std::numeric_limits<std::int64_t>::max())) throw InputError("--seed " + text + allowed);
+        s.seed = v;
     }
     if (!opt.meshStyle.empty()) s.output.meshStyle = opt.meshStyle;
     validateScenario(s);

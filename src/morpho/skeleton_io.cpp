@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace cavesim::morpho {
@@ -24,28 +25,9 @@ void appendNumber(std::string& out, double x) {
     out.append(buf, r.ptr);
 }
 
-/// Writes `text` to `dir/name` through `dir/.name.tmp` and a rename.
+/// Writes `text` to `dir/name` through a unique temporary file and a rename.
 void writeAtomic(const fs::path& dir, const std::string& name, const std::string& text) {
-    const fs::path target = dir / name;
-    const fs::path tmp = dir / ("." + name + ".tmp");
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw RuntimeError("cannot write " + tmp.string());
-        out << text;
-        out.close();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw RuntimeError("cannot write " + tmp.string());
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        std::error_code ec2;
-        fs::remove(tmp, ec2);
-        throw RuntimeError("cannot rename " + tmp.string() + " to " + target.string() + ": " + ec.message());
-    }
+    writeFileAtomic((dir / name).string(), text);
 }
 
 void checkSkeleton(const Skeleton& s, double voxelSize, const Dims& grid) {

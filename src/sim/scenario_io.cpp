@@ -212,12 +212,15 @@ public:
     }
 
     /// An array of tables (`[[key]]`); empty when absent.
-    std::vector<const toml::table*> tableArray(const std::string& key) {
+    std::vector<const toml::table*> tableArray(const std::string& key, std::size_t maxEntries = 4096) {
         std::vector<const toml::table*> out;
         const toml::node* n = get(key);
         if (!n) return out;
         auto a = n->as_array();
         if (!a) fail(key, n, "must be an array of tables, written [[" + qualified(key) + "]]");
+        if (a->size() > maxEntries)
+            fail(key, nullptr, "at most " + std::to_string(maxEntries) + " [[" + qualified(key) + "]] entries, found " +
+                                   std::to_string(a->size()));
         for (const toml::node& e : *a) {
             if (!e.is_table()) fail(key, &e, "every entry must be a table, written [[" + qualified(key) + "]]");
             out.push_back(e.as_table());
@@ -336,7 +339,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
             sr.finish({"center", "radius", "core_porosity"});
             s.spheres.push_back(o);
         }
-        for (const toml::table* pt : r.tableArray("plane")) {
+        for (const toml::table* pt : r.tableArray("plane", 1024)) {
             TableReader pr(*pt, "rock.plane", file);
             PlaneFeature p;
             p.point = pr.vec3("point", p.point, -ext, ext, true);
@@ -349,13 +352,17 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
             pr.finish({"point", "normal", "thickness", "porosity", "extent", "kind"});
             s.planes.push_back(p);
         }
-        for (const toml::table* ct : r.tableArray("channel")) {
+        std::size_t channelPoints = 0;  // all polylines together: the effective scenario rewrites each
+        for (const toml::table* ct : r.tableArray("channel", 1024)) {
             TableReader cr(*ct, "rock.channel", file);
             ChannelFeature c;
             const toml::node* pts = cr.get("points");
             if (!pts) cr.fail("points", nullptr, "is required: an array of at least 2 points [x, y, z]");
             auto a = pts->as_array();
             if (!a || a->size() < 2) cr.fail("points", pts, "must be an array of at least 2 points [x, y, z]");
+            channelPoints += a->size();
+            if (channelPoints > 65536)
+                cr.fail("points", pts, "all [[rock.channel]] polylines together may have at most 65536 points");
             for (const toml::node& e : *a) c.points.push_back(cr.toVec3("points", e, -ext, ext));
             c.radius = cr.number("radius", c.radius, 0, 1e6);
             c.porosity = cr.number("porosity", c.porosity, 0, 1);
@@ -367,7 +374,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
     }
 
     constexpr std::size_t kMaxTerminals = 256;  // each source marches its own zone front over the grid
-    for (const toml::table* t : top.tableArray("source")) {
+    for (const toml::table* t : top.tableArray("source", std::numeric_limits<std::size_t>::max())) {
         TableReader r(*t, "source", file);
         if (s.sources.size() == kMaxTerminals)
             throw InputError(file + ":" + std::to_string(t->source().begin.line) + ": key 'source': at most " +
@@ -380,7 +387,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         r.finish({"at", "box", "pressure"});
         s.sources.push_back(src);
     }
-    for (const toml::table* t : top.tableArray("sink")) {
+    for (const toml::table* t : top.tableArray("sink", std::numeric_limits<std::size_t>::max())) {
         TableReader r(*t, "sink", file);
         if (s.sinks.size() == kMaxTerminals)
             throw InputError(file + ":" + std::to_string(t->source().begin.line) + ": key 'sink': at most " +
@@ -403,6 +410,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         if (const toml::node* n = r.get("aim")) {
             auto a = n->as_array();
             if (!a) r.fail("aim", n, "must be an array of points [x, y, z]");
+            if (a->size() > 1024) r.fail("aim", n, "must have at most 1024 points");
             for (const toml::node& e : *a) g.aim.push_back(r.toVec3("aim", e, -ext, ext));
         }
         g.permeability = r.choice("permeability", g.permeability, {"uniform", "porosity"});

@@ -65,6 +65,8 @@ stderr_has "rock.noise.scale"
 # A --seed the effective scenario.toml could not hold.
 expect_exit 2 "--seed beyond 2^63 - 1" -- "$CAVESIM" run good.toml --seed 18446744073709551615 --out o10
 stderr_has "--seed"
+expect_exit 2 "negative --seed (no wrap-around)" -- "$CAVESIM" run good.toml --seed=-18446744073709551615 --out o10
+stderr_has "--seed -18446744073709551615: must be a whole number"
 
 # Output directories that cannot be ours: the current directory, the root, a path under a file.
 expect_exit 2 "--out . refused" -- "$CAVESIM" run good.toml --out . --force -q

@@ -25,4 +25,18 @@ expect_exit 0 "run next to stale staging dirs" -- "$CAVESIM" run s.toml --out ag
 [ -L .again.partial-999999997 ] && [ "$(cat keepme/file)" = mine ] && [ -f .again.old-999999996 ] \
   && pass "symlink, its target and a file left alone" || fail "touched a symlink or file"
 rm -rf .again.partial-1 .again.partial-999999998 .again.partial-999999997 .again.old-999999996 keepme
+# --out that no directory can replace: a dangling symlink, a symlink loop, a mount point.
+ln -s nowhere dangling && ln -s loop2 loop1 && ln -s loop1 loop2
+expect_exit 2 "--out a dangling symlink" -- "$CAVESIM" run s.toml --out dangling -q --force
+stderr_has "leads nowhere"
+expect_exit 2 "--out a symlink loop" -- "$CAVESIM" run s.toml --out loop1 -q --force
+mkdir -p msrc mnt
+if mount --bind msrc mnt 2>/dev/null; then
+  expect_exit 2 "--out a mount point" -- "$CAVESIM" run s.toml --out mnt -q
+  stderr_has "mount point"
+  expect_exit 0 "--out inside a mount point" -- "$CAVESIM" run s.toml --out mnt/inner -q
+  umount mnt
+else
+  pass "mount point case skipped (no permission to mount here)"
+fi
 finish

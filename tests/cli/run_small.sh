@@ -49,4 +49,29 @@ stderr_has "not a cavesim report"
 cp damaged-before.json damaged/report.json && rm damaged/report.md && mkdir damaged/report.md
 expect_exit 2 "report refuses an unwritable report.md" -- "$CAVESIM" report damaged
 cmp -s damaged/report.json damaged-before.json && pass "nothing rewritten before the refusal" || fail "report.json rewritten"
+# The record of state.vdb: report.json's entry may be unusable (the scenario.toml line is then used);
+# with neither, or with a scenario edited to another grid, or with a state.vdb that is a FIFO, the
+# folder is refused; temporary files never write through a symlink lying in the folder.
+rm -rf rec && cp -r r rec
+python3 - rec/report.json <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1])); j["files"] = {"state.vdb": None}; json.dump(j, open(sys.argv[1], "w"))
+PY
+expect_exit 0 "report falls back to scenario.toml's record" -- "$CAVESIM" report rec
+sed -i '/^# state.vdb:/d' rec/scenario.toml
+python3 - rec/report.json <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1])); j["files"] = {"state.vdb": None}; json.dump(j, open(sys.argv[1], "w"))
+PY
+expect_exit 2 "report refuses a state.vdb without any record" -- "$CAVESIM" report rec
+stderr_has "no usable record"
+rm -rf rec && cp -r r rec && sed -i 's/^size = \[ 16, 1, 12 \]/size = [ 16, 1, 13 ]/' rec/scenario.toml
+grep -q "size = \[ 16, 1, 13 \]" rec/scenario.toml && pass "scenario grid edited" || fail "edit did not apply: $(grep size rec/scenario.toml)"
+expect_exit 2 "report refuses a scenario edited to another grid" -- "$CAVESIM" report rec
+stderr_has "the scenario was edited"
+rm -rf rec && cp -r r rec && rm rec/state.vdb && mkfifo rec/state.vdb
+expect_exit 2 "report refuses a FIFO state.vdb" -- timeout 20 "$CAVESIM" report rec
+rm -rf rec && cp -r r rec && echo precious > outside.txt && ln -s "$PWD/outside.txt" rec/.report.md.tmp
+expect_exit 0 "report with a symlink among its temporary names" -- "$CAVESIM" report rec
+[ "$(cat outside.txt)" = precious ] && [ ! -L rec/report.md ] && pass "nothing written through the symlink" || fail "wrote through a symlink"
 finish

@@ -198,6 +198,12 @@ TEST(Scenario, SizesThatWouldBreakTheRunAreRefused) {
     std::string many = kBase;
     for (int i = 0; i < 257; ++i) many += "[[source]]\nat = [1, 1, 1]\n";
     expectError(many, {"key 'source'", "at most 256"});
+    std::string planes = kBase;
+    for (int i = 0; i < 1025; ++i) planes += "[[rock.plane]]\npoint = [1, 1, 1]\n";
+    expectError(planes, {"rock.plane", "at most 1024"});
+    std::string pts = std::string(kBase) + "[[rock.channel]]\npoints = [";
+    for (int i = 0; i < 65537; ++i) pts += "[1, 1, 1], ";
+    expectError(pts + "]\n", {"rock.channel.points", "at most 65536"});
     std::string snaps = std::string(kBase) + "snapshots = [";
     for (int i = 0; i < 33; ++i) snaps += std::to_string(i) + ", ";
     expectError(snaps + "]\n", {"stage2.snapshots", "at most 32"});
