@@ -40,7 +40,8 @@ void removeStaleSiblings(const fs::path& parent, const std::string& name) {
             const std::string prefix = "." + name + tag;
             if (f.size() <= prefix.size() || f.compare(0, prefix.size(), prefix) != 0) continue;
             const std::string pid = f.substr(prefix.size());
-            if (pid.find_first_not_of("0123456789") != std::string::npos || pid.size() > 9) continue;
+            if (pid.empty() || pid[0] == '0' || pid.find_first_not_of("0123456789") != std::string::npos || pid.size() > 9)
+                continue;  // not a name this program writes
             std::error_code ec2;
             if (e.is_symlink(ec2) || !e.is_directory(ec2)) continue;  // only real directories
             const auto modified = fs::last_write_time(e.path(), ec2);
@@ -81,6 +82,14 @@ bool isMountPoint(const fs::path& dir) {
     return false;
 }
 
+/// The stem of the hidden names beside the target: the target's name, shortened so that
+/// ".STEM.partial-PID" fits the usual 255-byte limit of a file name.
+std::string siblingStem(const fs::path& target) {
+    std::string name = target.filename().string();
+    if (name.size() > 200) name = name.substr(0, 200);
+    return name;
+}
+
 }  // namespace
 
 OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
@@ -97,6 +106,11 @@ OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
     if (target_ == target_.root_path() || (!ec && isSameOrAncestor(target_, cwd)))
         throw InputError(shown + ": is the current directory, one of its parents or the root; give a "
                                  "directory of its own for the results");
+    // Through a symlink the target may contain the very path that names it (a link to "..").
+    const fs::path written = fs::absolute(target, ec).lexically_normal();
+    if (!ec && isSameOrAncestor(target_, written.parent_path()))
+        throw InputError(shown + ": leads to " + target_.string() + ", which contains " + shown.substr(6) +
+                         " itself; give a directory of its own for the results");
     if (fs::exists(target_, ec)) {
         if (!fs::is_directory(target_, ec)) throw InputError(shown + ": exists and is not a directory");
         // Results are written beside the target and renamed into place: a mount point cannot be.
@@ -115,19 +129,21 @@ OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
 }
 
 OutputDir::~OutputDir() {
-    if (!committed_ && !staging_.empty()) {
-        std::error_code ec;
-        fs::remove_all(staging_, ec);
-    }
+    if (committed_) return;
+    std::error_code ec;
+    if (!staging_.empty()) fs::remove_all(staging_, ec);
+    for (const fs::path& p : createdParents_) fs::remove(p, ec);  // only if still empty
 }
 
 void OutputDir::open() {
     const fs::path parent = target_.parent_path();
     std::error_code ec;
+    for (fs::path p = parent; !p.empty() && p != p.root_path() && !fs::exists(p, ec); p = p.parent_path())
+        createdParents_.push_back(p);  // deepest first
     fs::create_directories(parent, ec);
     if (ec) throw InputError("--out " + target_.string() + ": cannot create " + parent.string() + ": " + ec.message());
-    removeStaleSiblings(parent, target_.filename().string());
-    staging_ = parent / ("." + target_.filename().string() + ".partial-" + std::to_string(::getpid()));
+    removeStaleSiblings(parent, siblingStem(target_));
+    staging_ = parent / ("." + siblingStem(target_) + ".partial-" + std::to_string(::getpid()));
     fs::remove_all(staging_, ec);
     fs::create_directories(staging_, ec);
     if (ec) throw InputError("--out " + target_.string() + ": cannot create " + staging_.string() + ": " + ec.message());
@@ -144,7 +160,10 @@ void OutputDir::commit() {
     std::error_code ec;
     fs::path old;
     if (fs::exists(target_, ec)) {
-        old = target_.parent_path() / ("." + target_.filename().string() + ".old-" + std::to_string(::getpid()));
+        if (!force_ && !fs::is_empty(target_, ec))
+            throw InputError("--out " + target_.string() +
+                             ": was filled by something else while this run worked; pass --force to replace it");
+        old = target_.parent_path() / ("." + siblingStem(target_) + ".old-" + std::to_string(::getpid()));
         fs::rename(target_, old, ec);
         if (ec) throw RuntimeError("cannot move the old " + target_.string() + " aside: " + ec.message());
     }

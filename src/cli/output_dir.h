@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace cavesim::cli {
 
@@ -36,6 +37,7 @@ public:
 
 private:
     std::filesystem::path target_, staging_;
+    std::vector<std::filesystem::path> createdParents_;  ///< parents open() created, deepest first
     bool force_ = false, committed_ = false;
 };
 

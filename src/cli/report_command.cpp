@@ -40,7 +40,11 @@ nlohmann::json readJsonIfPresent(const fs::path& path) {
     if (!in) throw InputError(path.string() + ": cannot be read");
     nlohmann::json j;
     try {
-        j = nlohmann::json::parse(in);
+        // A report nests a few levels; ~100 000 would overflow the stack when written back.
+        j = nlohmann::json::parse(in, [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+            if (depth > 64) throw InputError(path.string() + ": nested more than 64 levels deep: not a cavesim report");
+            return true;
+        });
     } catch (const nlohmann::json::exception& e) {
         throw InputError(path.string() + ": not valid JSON (" + e.what() + ")");
     }

@@ -1,10 +1,11 @@
 #include "sim/scenario_io.h"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <algorithm>
-#include <cmath>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -82,11 +83,42 @@ void describeInto(const toml::node& n, std::string& out) {
     }
 }
 
+/// `s` cut to at most `keep` bytes plus "..." when longer than `limit`, never inside a UTF-8 character.
+std::string shortened(const std::string& s, std::size_t limit, std::size_t keep) {
+    if (s.size() <= limit) return s;
+    std::size_t cut = keep;
+    while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;  // continuation byte
+    return s.substr(0, cut) + "...";
+}
+
 std::string describe(const toml::node& n) {
     std::string s;
     describeInto(n, s);
-    if (s.size() > 60) s = s.substr(0, 57) + "...";
-    return s;
+    return shortened(s, 60, 57);
+}
+
+/// The deepest run of dotted key parts (`a.b.c` is 3) outside strings and comments. toml++
+/// recurses once per part and overflows the stack on keys of ~100 000 parts; cavesim's keys have 3.
+int deepestDottedKey(std::string_view t) {
+    int deepest = 0, dots = 0;
+    for (std::size_t c = 0; c < t.size(); ++c) {
+        const char ch = t[c];
+        if (ch == '#') {  // comment to the end of the line
+            while (c < t.size() && t[c] != '\n') ++c;
+            dots = 0;
+        } else if (ch == '"' || ch == '\'') {
+            const bool triple = t.substr(c, 3) == std::string(3, ch);
+            const std::string_view close = triple ? t.substr(c, 3) : t.substr(c, 1);
+            c += close.size();
+            while (c < t.size() && t.substr(c, close.size()) != close) c += (ch == '"' && t[c] == '\\') ? 2 : 1;
+            c += close.size() - 1;  // on the closing quote; a quoted part continues the run
+        } else if (ch == '.') {
+            deepest = std::max(deepest, ++dots + 1);
+        } else if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == ' ' || ch == '\t')) {
+            dots = 0;
+        }
+    }
+    return deepest;
 }
 
 /// Reads one TOML table against a fixed set of keys; everything it reports names file, line, key.
@@ -240,8 +272,7 @@ public:
             if (k.source().begin.line > 0) os << ":" << k.source().begin.line;
             // The key as written, escaped and shortened: the message stays one readable line.
             std::string shown = quoted(qualified(key));
-            shown = shown.substr(1, shown.size() - 2);
-            if (shown.size() > 60) shown = shown.substr(0, 57) + "...";
+            shown = shortened(shown.substr(1, shown.size() - 2), 60, 57);
             os << ": unknown key '" << shown << "' = " << describe(v) << ": allowed keys here are " << list;
             throw InputError(os.str());
         }
@@ -532,6 +563,9 @@ void validateScenario(const Scenario& s) {
 }
 
 Scenario parseScenarioString(std::string_view text, const std::string& sourceName) {
+    if (deepestDottedKey(text) > 32)
+        throw InputError(sourceName + ": a dotted key or table name of more than 32 parts; cavesim's keys have at "
+                                      "most 3 (e.g. rock.noise.scale)");
     toml::table root;
     try {
         root = toml::parse(text, sourceName);

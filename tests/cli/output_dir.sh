@@ -39,4 +39,21 @@ if mount --bind msrc mnt 2>/dev/null; then
 else
   pass "mount point case skipped (no permission to mount here)"
 fi
+# A symlink inside the --out path that leads back up would make --force replace the folder that
+# holds it; names this program never writes (leading zeros) are left alone; parents created for a
+# run that then fails are removed again; a 250-byte target name works.
+mkdir -p project/sub && echo keep > project/important.txt && ln -s .. project/sub/results
+expect_exit 2 "--out through a symlink to a parent" -- "$CAVESIM" run s.toml --out project/sub/results --force -q
+stderr_has "itself"
+[ "$(cat project/important.txt)" = keep ] && pass "the parent folder survived" || fail "project/ was replaced"
+mkdir -p .zero.partial-0999999 && touch -d '1 hour ago' .zero.partial-0999999
+expect_exit 0 "run next to a leading-zero name" -- "$CAVESIM" run s.toml --out zero -q
+[ -d .zero.partial-0999999 ] && pass "leading-zero name left alone" || fail "removed .zero.partial-0999999"
+sed 's/^enabled = false/enabled = true\nmax_graph_voxels = 1/' s.toml > bad.toml
+expect_exit 2 "a run that fails after creating parents for --out" -- "$CAVESIM" run bad.toml --out newp/q/x -q
+stderr_has "max_graph_voxels"
+[ ! -e newp ] && pass "no parents left behind" || fail "newp/ left behind"
+long=$(printf 'a%.0s' $(seq 250))
+expect_exit 0 "a 250-byte --out name" -- "$CAVESIM" run s.toml --out "$long" -q
+[ -f "$long/report.json" ] && pass "written under the long name" || fail "long name: $(ls)"
 finish

@@ -74,4 +74,11 @@ expect_exit 2 "report refuses a FIFO state.vdb" -- timeout 20 "$CAVESIM" report 
 rm -rf rec && cp -r r rec && echo precious > outside.txt && ln -s "$PWD/outside.txt" rec/.report.md.tmp
 expect_exit 0 "report with a symlink among its temporary names" -- "$CAVESIM" report rec
 [ "$(cat outside.txt)" = precious ] && [ ! -L rec/report.md ] && pass "nothing written through the symlink" || fail "wrote through a symlink"
+rm -rf rec && cp -r r rec
+python3 - rec/report.json <<'PY'
+import sys
+open(sys.argv[1], "w").write('{"x": ' + "[" * 100000 + "]" * 100000 + "}")
+PY
+expect_exit 2 "report refuses a report.json nested 100 000 deep" -- "$CAVESIM" report rec
+stderr_has "nested more than 64 levels"
 finish

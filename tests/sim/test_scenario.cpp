@@ -182,6 +182,24 @@ TEST(Scenario, ErrorsQuoteValuesAsWritten) {
     const std::string longKey = errorOf(std::string(kBase) + std::string(5000, 'k') + " = 1\n");
     EXPECT_LT(longKey.size(), 400u) << longKey.size();
     EXPECT_NE(longKey.find("kkk..."), std::string::npos) << longKey;
+    // Shortening never cuts a UTF-8 character in half: 'é' is two bytes, the cut falls between them.
+    std::string accents;
+    for (int i = 0; i < 100; ++i) accents += "\xc3\xa9";
+    const std::string utf8 = errorOf(std::string(kBase) + "\"" + accents + "\" = 1\n");
+    const std::size_t dots = utf8.find("...");
+    ASSERT_NE(dots, std::string::npos) << utf8;
+    EXPECT_NE(static_cast<unsigned char>(utf8[dots - 1]), 0xc3) << "cut inside a character";
+}
+
+TEST(Scenario, DeeplyDottedKeysAreRefusedBeforeParsing) {
+    // toml++ recurses once per key part; ~100 000 parts overflowed the stack.
+    std::string deep = "a";
+    for (int i = 0; i < 100000; ++i) deep += ".a";
+    expectError(deep + " = 1\n" + kBase, {"more than 32 parts"});
+    expectError("[" + deep + "]\nx = 1\n", {"more than 32 parts"});
+    // Dots in numbers, strings and comments are not key parts.
+    EXPECT_NO_THROW(parseScenarioString(std::string(kBase) + "# a.b.c.d.e.f.g.h.i.j.k.l.m.n.o.p.q.r.s.t.u.v.w.x.y.z.a.b.c.d.e.f.g\n",
+                                        "ok.toml"));
 }
 
 TEST(Scenario, RockRateBelowTheDefaultChannelRateBlamesTheKeyInTheFile) {
