@@ -107,7 +107,8 @@ OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
         throw InputError(shown + ": is the current directory, one of its parents or the root; give a "
                                  "directory of its own for the results");
     // Through a symlink the target may contain the very path that names it (a link to "..").
-    const fs::path written = fs::absolute(target, ec).lexically_normal();
+    fs::path written = fs::absolute(target, ec).lexically_normal();
+    if (written.filename().empty()) written = written.parent_path();  // "res/", "res/." name res
     if (!ec && isSameOrAncestor(target_, written.parent_path()))
         throw InputError(shown + ": leads to " + target_.string() + ", which contains " + shown.substr(6) +
                          " itself; give a directory of its own for the results");
@@ -143,10 +144,18 @@ void OutputDir::open() {
     fs::create_directories(parent, ec);
     if (ec) throw InputError("--out " + target_.string() + ": cannot create " + parent.string() + ": " + ec.message());
     removeStaleSiblings(parent, siblingStem(target_));
-    staging_ = parent / ("." + siblingStem(target_) + ".partial-" + std::to_string(::getpid()));
-    fs::remove_all(staging_, ec);
-    fs::create_directories(staging_, ec);
-    if (ec) throw InputError("--out " + target_.string() + ": cannot create " + staging_.string() + ": " + ec.message());
+    // A name of our own: one already there (left by an earlier process with this PID) is not ours to
+    // remove, so a suffix is added until the directory can be created afresh.
+    const std::string base = "." + siblingStem(target_) + ".partial-" + std::to_string(::getpid());
+    for (int n = 0;; ++n) {
+        staging_ = parent / (n == 0 ? base : base + "-" + std::to_string(n));
+        if (fs::create_directory(staging_, ec)) break;
+        if (ec || n == 100) {
+            const std::string why = ec ? ec.message() : std::string("the name is taken");
+            staging_.clear();
+            throw InputError("--out " + target_.string() + ": cannot create a staging directory beside it: " + why);
+        }
+    }
 }
 
 fs::path OutputDir::file(const std::string& relative) const {
@@ -163,7 +172,10 @@ void OutputDir::commit() {
         if (!force_ && !fs::is_empty(target_, ec))
             throw InputError("--out " + target_.string() +
                              ": was filled by something else while this run worked; pass --force to replace it");
-        old = target_.parent_path() / ("." + siblingStem(target_) + ".old-" + std::to_string(::getpid()));
+        const std::string base = "." + siblingStem(target_) + ".old-" + std::to_string(::getpid());
+        old = target_.parent_path() / base;
+        for (int n = 1; fs::exists(fs::symlink_status(old, ec)) && n <= 100; ++n)
+            old = target_.parent_path() / (base + "-" + std::to_string(n));
         fs::rename(target_, old, ec);
         if (ec) throw RuntimeError("cannot move the old " + target_.string() + " aside: " + ec.message());
     }

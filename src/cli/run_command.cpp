@@ -34,11 +34,12 @@ int runCommand(const RunOptions& opt) {
         // Digits only (no sign, no wrap-around), at most 2^63 - 1: the effective scenario.toml must
         // hold the seed and reproduce the run.
         const std::string& text = *opt.seed;
+        const std::string digits = text.size() > 1 ? text.substr(std::min(text.find_first_not_of('0'), text.size() - 1)) : text;
         const std::string allowed = ": must be a whole number in [0, " +
                                     std::to_string(std::numeric_limits<std::int64_t>::max()) + "]";
-        if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos)
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || digits.size() > 19)
             throw InputError("--seed " + text + allowed);
-        const unsigned long long v = std::stoull(text);
+        const unsigned long long v = std::stoull(digits);
         if (v > std::uint64_t(std::numeric_limits<std::int64_t>::max())) throw InputError("--seed " + text + allowed);
         s.seed = v;
     }

@@ -24,10 +24,15 @@ inline void writeFileAtomic(const std::string& path, const std::string& text) {
     namespace fs = std::filesystem;
     static std::atomic<unsigned> counter{0};
     const fs::path target(path);
-    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
-                                                 std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0) throw RuntimeError("cannot create " + tmp.string() + ": " + std::strerror(errno));
+    fs::path tmp;
+    int fd = -1;
+    for (int attempt = 0; fd < 0; ++attempt) {  // a name already taken by something else: the next one
+        tmp = target.parent_path() /
+              ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+        if (fd < 0 && (errno != EEXIST || attempt == 100))
+            throw RuntimeError("cannot create " + tmp.string() + ": " + std::strerror(errno));
+    }
     std::size_t done = 0;
     bool ok = true;
     while (done < text.size()) {

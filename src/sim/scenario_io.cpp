@@ -112,6 +112,8 @@ int deepestDottedKey(std::string_view t) {
             c += close.size();
             while (c < t.size() && t.substr(c, close.size()) != close) c += (ch == '"' && t[c] == '\\') ? 2 : 1;
             c += close.size() - 1;  // on the closing quote; a quoted part continues the run
+            // A multi-line string may end in up to two more quotes ("""x"""" is the string x").
+            for (int extra = 0; triple && extra < 2 && c + 1 < t.size() && t[c + 1] == ch; ++extra) ++c;
         } else if (ch == '.') {
             deepest = std::max(deepest, ++dots + 1);
         } else if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == ' ' || ch == '\t')) {

@@ -93,4 +93,7 @@ TOML
 expect_exit 2 "stage 1 larger than the memory limit" -- bash -c "ulimit -v 1000000; exec \"$CAVESIM\" run bigzone.toml --out o11 -q"
 stderr_has "this process may use"
 [ ! -e o11 ] && pass "no output for the refused stage 1" || fail "o11 was created"
+# Leading zeros in --seed are still the same number.
+expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
+grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"
 finish

@@ -56,4 +56,9 @@ stderr_has "max_graph_voxels"
 long=$(printf 'a%.0s' $(seq 250))
 expect_exit 0 "a 250-byte --out name" -- "$CAVESIM" run s.toml --out "$long" -q
 [ -f "$long/report.json" ] && pass "written under the long name" || fail "long name: $(ls)"
+# A trailing slash or "/." names the same folder.
+expect_exit 0 "--out with a trailing slash" -- "$CAVESIM" run s.toml --out slash/ -q
+expect_exit 0 "--out with a trailing /." -- "$CAVESIM" run s.toml --out slash2/. -q
+expect_exit 0 "--out with a trailing slash and --force over a run" -- "$CAVESIM" run s.toml --out slash/ --force -q
+[ -f slash/report.json ] && [ -f slash2/report.json ] && pass "written into slash/ and slash2/" || fail "trailing slash: $(ls)"
 finish

@@ -81,4 +81,14 @@ open(sys.argv[1], "w").write('{"x": ' + "[" * 100000 + "]" * 100000 + "}")
 PY
 expect_exit 2 "report refuses a report.json nested 100 000 deep" -- "$CAVESIM" report rec
 stderr_has "nested more than 64 levels"
+rm -rf rec && cp -r r rec && rm rec/report.json
+python3 - rec/scenario.toml <<'PY'
+import sys
+lines = [l for l in open(sys.argv[1]) if not l.startswith("# state.vdb:")]
+deep = "[" * 200000 + "]" * 200000
+lines.append('# state.vdb: {"bytes": 1, "fnv1a64": "0", "grid": [1, 1, 1], "voxel_size_m": 1, "x": ' + deep + '}\n')
+open(sys.argv[1], "w").writelines(lines)
+PY
+expect_exit 2 "report refuses a deeply nested scenario.toml record" -- "$CAVESIM" report rec
+stderr_has "no usable record"
 finish

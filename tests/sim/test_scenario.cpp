@@ -197,6 +197,9 @@ TEST(Scenario, DeeplyDottedKeysAreRefusedBeforeParsing) {
     for (int i = 0; i < 100000; ++i) deep += ".a";
     expectError(deep + " = 1\n" + kBase, {"more than 32 parts"});
     expectError("[" + deep + "]\nx = 1\n", {"more than 32 parts"});
+    // A multi-line string may end in up to two extra quotes; the scan must not lose its place there.
+    expectError("name = \"\"\"x\"\"\"\"\n" + deep + " = 1\n", {"more than 32 parts"});
+    expectError("name = '''x''''\n" + deep + " = 1\n", {"more than 32 parts"});
     // Dots in numbers, strings and comments are not key parts.
     EXPECT_NO_THROW(parseScenarioString(std::string(kBase) + "# a.b.c.d.e.f.g.h.i.j.k.l.m.n.o.p.q.r.s.t.u.v.w.x.y.z.a.b.c.d.e.f.g\n",
                                         "ok.toml"));
