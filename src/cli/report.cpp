@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/fnv.h"
 #include "mesh/cave_mesh.h"
 #include "morpho/analysis.h"
 
@@ -18,12 +19,9 @@ namespace {
 /// FNV-1a over the bytes of a grid: identical grids, identical checksums (determinism checks).
 template <typename T>
 std::string checksum(const Grid3<T>& g) {
-    std::uint64_t h = 1469598103934665603ull;
-    const auto* p = reinterpret_cast<const unsigned char*>(g.data.data());
-    for (std::size_t b = 0; b < g.data.size() * sizeof(T); ++b) h = (h ^ p[b]) * 1099511628211ull;
-    char buf[17];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-    return buf;
+    Fnv1a64 h;
+    h.add(g.data.data(), g.data.size() * sizeof(T));
+    return h.hex();
 }
 
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -360,17 +358,16 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
 nlohmann::json fileFingerprint(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw RuntimeError("cannot read " + path);
-    std::uint64_t h = 1469598103934665603ull, bytes = 0;
+    Fnv1a64 h;
+    std::uint64_t bytes = 0;
     char buf[1 << 16];
     while (in) {
         in.read(buf, sizeof buf);
         const std::streamsize n = in.gcount();
-        for (std::streamsize b = 0; b < n; ++b) h = (h ^ static_cast<unsigned char>(buf[b])) * 1099511628211ull;
+        h.add(buf, std::size_t(n));
         bytes += std::uint64_t(n);
     }
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
-    return {{"bytes", bytes}, {"fnv1a64", hex}};
+    return {{"bytes", bytes}, {"fnv1a64", h.hex()}};
 }
 
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir) {

@@ -8,6 +8,7 @@
 #include <openvdb/openvdb.h>
 
 #include "core/error.h"
+#include "core/fnv.h"
 
 namespace cavesim::mesh {
 namespace {
@@ -72,13 +73,16 @@ void makeUuidDeterministic(const std::string& path) {
         const bool dash = c == 8 || c == 13 || c == 18 || c == 23;
         if (dash ? ch != '-' : !std::isxdigit(static_cast<unsigned char>(ch))) return;
     }
-    std::uint64_t h[2] = {1469598103934665603ull, 0x9e3779b97f4a7c15ull};
-    for (std::size_t b = 0; b < bytes.size(); ++b) {
-        if (b >= kAt && b < kAt + kLen) continue;
-        const auto u = static_cast<unsigned char>(bytes[b]);
-        h[0] = (h[0] ^ u) * 1099511628211ull;
-        h[1] = (h[1] ^ u) * 0x100000001b3ull + 0x632be59bd9b4e019ull;
-    }
+    // Two hashes of everything but the tag: the header then the grids, and the grids then the header.
+    Fnv1a64 forward, backward;
+    const char* head = bytes.data();
+    const char* rest = bytes.data() + kAt + kLen;
+    const std::size_t restBytes = bytes.size() - kAt - kLen;
+    forward.add(head, kAt);
+    forward.add(rest, restBytes);
+    backward.add(rest, restBytes);
+    backward.add(head, kAt);
+    const std::uint64_t h[2] = {forward.value(), backward.value()};
     char uuid[40];
     // Version-4 layout (the "4" and the variant nibble kept), hex digits from the two hashes.
     std::snprintf(uuid, sizeof uuid, "%08llx-%04llx-4%03llx-%04llx-%012llx",
