@@ -29,7 +29,7 @@ void BM_Stage1Fig10(benchmark::State& state) {
         Domain d = built;
         Rng rng = after;
         state.ResumeTiming();
-        const Stage1Result r = runStage1(d, s, rng);
+        const Stage1Result r = runStage1(d, s.stage1, rng);
         protochannels = r.protochannelVoxels;
         benchmark::DoNotOptimize(r.perZone.data());
     }

@@ -82,14 +82,14 @@ std::filesystem::path scratchDir() {
 void BM_WriteCaveMesh(benchmark::State& state) {
     const Domain& d = fixture();
     const auto dir = scratchDir();
-    for (auto _ : state) benchmark::DoNotOptimize(mesh::writeCaveMesh(d, dir.string()).faces);
-    state.counters["faces"] = double(mesh::measureMesh(mesh::buildCaveMesh(caveMask(d), d.voxelSize)).faces);
+    for (auto _ : state) benchmark::DoNotOptimize(mesh::writeCaveMesh(makeCave(d, CaveExtent::kChannels), dir.string()).faces);
+    state.counters["faces"] = double(mesh::measureMesh(mesh::buildCaveMesh(caveMask(d, CaveExtent::kChannels), d.voxelSize)).faces);
 }
 BENCHMARK(BM_WriteCaveMesh)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 void BM_BuildCaveMesh(benchmark::State& state) {
     const Domain& d = fixture();
-    const Grid3<std::uint8_t> mask = caveMask(d);
+    const Grid3<std::uint8_t> mask = caveMask(d, CaveExtent::kChannels);
     for (auto _ : state) benchmark::DoNotOptimize(mesh::buildCaveMesh(mask, d.voxelSize).triangles.size());
 }
 BENCHMARK(BM_BuildCaveMesh)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
@@ -97,7 +97,7 @@ BENCHMARK(BM_BuildCaveMesh)->Unit(benchmark::kMillisecond)->UseRealTime()->Repet
 void BM_WriteCavePictures(benchmark::State& state) {
     const Domain& d = fixture();
     const auto dir = scratchDir() / "images";
-    for (auto _ : state) mesh::writeCavePictures(d, dir.string(), int(state.range(0)));
+    for (auto _ : state) mesh::writeCavePictures(makeCave(d, CaveExtent::kChannels), dir.string(), int(state.range(0)));
 }
 BENCHMARK(BM_WriteCavePictures)
     ->Arg(1024)
@@ -109,7 +109,7 @@ BENCHMARK(BM_WriteCavePictures)
 
 void BM_RenderCaveViews(benchmark::State& state) {
     const Domain& d = fixture();
-    for (auto _ : state) benchmark::DoNotOptimize(mesh::renderCaveViews(d, int(state.range(0)))[0].pixels.data());
+    for (auto _ : state) benchmark::DoNotOptimize(mesh::renderCaveViews(makeCave(d, CaveExtent::kChannels), int(state.range(0)))[0].pixels.data());
 }
 BENCHMARK(BM_RenderCaveViews)
     ->Arg(1024)
@@ -122,8 +122,8 @@ void BM_MeshAndPictures(benchmark::State& state) {
     const Domain& d = fixture();
     const auto dir = scratchDir();
     for (auto _ : state) {
-        benchmark::DoNotOptimize(mesh::writeCaveMesh(d, dir.string()).faces);
-        mesh::writeCavePictures(d, (dir / "images").string(), 1024);
+        benchmark::DoNotOptimize(mesh::writeCaveMesh(makeCave(d, CaveExtent::kChannels), dir.string()).faces);
+        mesh::writeCavePictures(makeCave(d, CaveExtent::kChannels), (dir / "images").string(), 1024);
     }
 }
 BENCHMARK(BM_MeshAndPictures)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
@@ -134,7 +134,7 @@ void BM_MeshAndPicturesShared(benchmark::State& state) {
     const auto dir = scratchDir();
     for (auto _ : state)
         benchmark::DoNotOptimize(
-            mesh::writeCaveMeshAndPictures(d, dir.string(), (dir / "images").string(), 1024).faces);
+            mesh::writeCaveMeshAndPictures(makeCave(d, CaveExtent::kChannels), dir.string(), (dir / "images").string(), 1024).faces);
 }
 BENCHMARK(BM_MeshAndPicturesShared)
     ->Unit(benchmark::kMillisecond)

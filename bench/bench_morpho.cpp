@@ -79,12 +79,12 @@ const Mask& fig10Cave() {
         const Scenario s = defaultScenario();
         Rng rng(s.seed);
         Domain d = buildDomain(s, rng);
-        if (s.stage1.enabled) runStage1(d, s, rng);
+        if (s.stage1.enabled) runStage1(d, s.stage1, rng);
         if (s.stage2.enabled) {
-            prepareStage2(d, s);
-            runStage2(d, s);
+            prepareStage2(d, s.stage2);
+            runStage2(d, s.stage2);
         }
-        return caveMask(d);
+        return caveMask(d, CaveExtent::kChannels);
     }();
     return mask;
 }

@@ -16,13 +16,13 @@ void BM_Stage2Fig10(benchmark::State& state) {
     s.stage2.iterations = int(state.range(0));
     Rng rng(s.seed);
     Domain base = buildDomain(s, rng);
-    runStage1(base, s, rng);
+    runStage1(base, s.stage1, rng);
     for (auto _ : state) {
         state.PauseTiming();
         Domain d = base;
-        prepareStage2(d, s);
+        prepareStage2(d, s.stage2);
         state.ResumeTiming();
-        const Stage2Result r = runStage2(d, s);
+        const Stage2Result r = runStage2(d, s.stage2);
         benchmark::DoNotOptimize(r.totalDrained);
     }
     const double voxelIterations = double(base.dims.count()) * double(s.stage2.iterations);

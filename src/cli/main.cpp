@@ -6,7 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/commands.h"
+#include "app/commands.h"
+#include "cli/progress_bar.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {
@@ -17,7 +18,9 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("cavesim ") + CAVESIM_VERSION);
     app.require_subcommand(1);
 
-    cli::RunOptions run;
+    app::RunRequest run;
+    bool quiet = false;
+    std::string meshStyle;
     CLI::App* runCmd = app.add_subcommand("run", "Run a scenario (the built-in Figure 10 scenario without SCENARIO)");
     runCmd->add_option("scenario", run.scenarioPath, "Scenario file (TOML); see docs/scenario-format.md");
     runCmd->add_option("--out,-o", run.outDir, "Output directory (default out/<scenario name>)");
@@ -25,9 +28,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1024));
     runCmd->add_option("--seed", run.seed, "Override the scenario's seed: a whole number in [0, 2^63 - 1]");
     runCmd->add_flag("--force,-f", run.force, "Replace a non-empty output directory");
-    runCmd->add_option("--mesh-style", run.meshStyle, "smooth (default) or voxel (also writes the blocky mesh)")
+    runCmd->add_option("--mesh-style", meshStyle, "smooth (default) or voxel (also writes the blocky mesh)")
         ->check(CLI::IsMember({"smooth", "voxel"}));
-    runCmd->add_flag("--quiet,-q", run.quiet, "No progress output");
+    runCmd->add_flag("--quiet,-q", quiet, "No progress output");
 
     std::string validatePath;
     CLI::App* validateCmd = app.add_subcommand("validate", "Check a scenario file and print a summary");
@@ -37,7 +40,7 @@ int main(int argc, char** argv) {
     CLI::App* reportCmd = app.add_subcommand("report", "Rebuild report.json and report.md from a run's files");
     reportCmd->add_option("dir", reportDir, "Output directory of an earlier run")->required();
 
-    cli::ReproduceOptions repro;
+    app::ReproduceOptions repro;
     CLI::App* reproCmd =
         app.add_subcommand("reproduce", "Run the paper's figure scenarios and write docs/reproduction.md");
     reproCmd->add_option("--scenarios", repro.scenarioDir, "Folder of the figure scenarios")->capture_default_str();
@@ -53,10 +56,30 @@ int main(int argc, char** argv) {
     }
 
     try {
-        if (*runCmd) return cli::runCommand(run);
-        if (*validateCmd) return cli::validateCommand(validatePath);
-        if (*reportCmd) return cli::reportCommand(reportDir);
-        if (*reproCmd) return cli::reproduceCommand(repro);
+        if (*runCmd) {
+            if (!meshStyle.empty()) run.meshStyle = meshStyle == "voxel" ? MeshStyle::kVoxel : MeshStyle::kSmooth;
+            cli::ProgressBar bar(quiet);
+            app::PipelineOptions callbacks;
+            callbacks.progress = [&bar](const std::string& phase, long done, long total) { bar.update(phase, done, total); };
+            callbacks.log = [&bar](const std::string& message) { bar.log(message); };
+            const app::RunOutcome done = app::runScenario(run, callbacks);
+            bar.log("wrote " + done.out.string() + " in " + std::to_string(done.seconds).substr(0, 5) + " s" +
+                    (done.breakthroughIteration ? ", breakthrough at iteration " + std::to_string(*done.breakthroughIteration)
+                                                : std::string()));
+            return 0;
+        }
+        if (*validateCmd) {
+            std::printf("%s\n", app::validateSummary(validatePath).c_str());
+            return 0;
+        }
+        if (*reportCmd) {
+            std::printf("%s\n", app::rebuildReport(reportDir).c_str());
+            return 0;
+        }
+        if (*reproCmd) {
+            app::reproduce(repro, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
+            return 0;
+        }
     } catch (const InputError& e) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());
         return 2;

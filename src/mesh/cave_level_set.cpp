@@ -328,8 +328,6 @@ void validateMeshOptions(const MeshOptions& o, double voxelSize) {
     auto fail = [](const std::string& what) { throw InputError("mesh option " + what); };
     if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
         fail("voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
-    if (o.style != "smooth" && o.style != "voxel")
-        fail("style must be \"smooth\" or \"voxel\", got \"" + o.style + "\"");
     if (o.subdivision < 1 || o.subdivision > 4)
         fail("subdivision must be in [1, 4], got " + std::to_string(o.subdivision));
     if (o.halfWidth < 3 || o.halfWidth > 8) fail("half width must be in [3, 8], got " + std::to_string(o.halfWidth));

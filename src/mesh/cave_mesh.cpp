@@ -107,18 +107,18 @@ MeshStats writeMeshOutputs(const TriangleMesh& mesh, const Grid3<std::uint8_t>& 
     if (mesh.triangles.empty()) return {};
     const std::filesystem::path base(dir);
     writeMeshFiles(mesh, {(base / "cave.obj").string(), (base / "cave.ply").string()});
-    if (options.style == "voxel") writeMeshFile(buildVoxelMesh(mask, voxelSize), (base / "cave_voxels.obj").string());
+    if (options.style == MeshStyle::kVoxel) writeMeshFile(buildVoxelMesh(mask, voxelSize), (base / "cave_voxels.obj").string());
     return measureMesh(mesh);
 }
 
 }  // namespace detail
 
-MeshStats writeCaveMesh(const Domain& domain, const std::string& dir, const MeshOptions& options) {
+MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
-    detail::validateMeshOptions(options, domain.voxelSize);
-    const Grid3<std::uint8_t> mask = caveMask(domain);
+    detail::validateMeshOptions(options, cave.voxelSize);
+    const Grid3<std::uint8_t>& mask = cave.mask;
     MeshStats stats =
-        detail::writeMeshOutputs(buildCaveMesh(mask, domain.voxelSize, options), mask, domain.voxelSize, dir, options);
+        detail::writeMeshOutputs(buildCaveMesh(mask, cave.voxelSize, options), mask, cave.voxelSize, dir, options);
     if (stats.faces > 0) stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return stats;
 }

@@ -31,16 +31,17 @@
 #include <vector>
 
 #include "core/grid.h"
-#include "sim/domain.h"
+#include "sim/cave.h"
+#include "sim/options.h"
 
 namespace cavesim::mesh {
 
 /// Options of the cave mesh. Defaults give a smooth, closed mesh of a 60×60×20 cave in well
 /// under a second.
 struct MeshOptions {
-    /// "smooth" (cave.obj, cave.ply) or "voxel" (additionally cave_voxels.obj: the faces between
+    /// kSmooth (cave.obj, cave.ply) or kVoxel (additionally cave_voxels.obj: the faces between
     /// cave and rock voxels, the paper's blocky look, for comparison).
-    std::string style = "smooth";
+    MeshStyle style = MeshStyle::kSmooth;
     /// Level-set voxels per simulation voxel edge, [1, 4]. 2 resolves a one-voxel tube with about
     /// eight vertices around; 3 is rounder and costs ~2.5× the time and memory; 1 is coarse (tubes
     /// of at least 0.9 voxel radius, pieces closer than two voxels may merge).
@@ -106,7 +107,7 @@ MeshStats measureMesh(const TriangleMesh& mesh);
 /// `dir/cave_voxels.obj`. Files are written under temporary names and renamed, so they appear
 /// complete or not at all. An empty cave writes nothing and returns zero stats.
 /// @throw InputError on bad options; RuntimeError when a file cannot be written
-MeshStats writeCaveMesh(const Domain& domain, const std::string& dir, const MeshOptions& options = {});
+MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options = {});
 
 /// Writes `mesh` as OBJ or PLY (by the extension of `path`: ".obj" or ".ply") through OpenMesh,
 /// with area-weighted vertex normals, via a temporary file and a rename.

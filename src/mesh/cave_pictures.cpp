@@ -321,18 +321,18 @@ void shade(Image& img, const Frame& f, const GBuffer& g) {
     });
 }
 
-Image renderView(const Domain& domain, render::View view, int width, const detail::CaveLevelSet& ls,
+Image renderView(const Cave& cave, render::View view, int width, const detail::CaveLevelSet& ls,
                  const Grid3<std::uint8_t>& mask, long caveVoxels) {
-    const Frame f = render::makeFrame(view, domain.dims, domain.voxelSize, width, 2);
+    const Frame f = render::makeFrame(view, cave.dims(), cave.voxelSize, width, 2);
     Image img = render::makeCanvas(f);
     const GBuffer g = traceViewport(f, ls, mask);
     shade(img, f, g);
     render::drawBlockOutline(img, f, &g.depth);
     render::drawAxes(img, f);
-    render::drawSourcesAndSinks(img, f, domain);
+    render::drawSourcesAndSinks(img, f, cave.dims(), cave.sourceVoxels, cave.sinkVoxels);
     char sub[200];
-    std::snprintf(sub, sizeof sub, "%d x %d x %d voxels of %s m; %ld cave voxels, smooth surface", domain.dims.nx,
-                  domain.dims.ny, domain.dims.nz, render::formatMetres(domain.voxelSize).c_str(), caveVoxels);
+    std::snprintf(sub, sizeof sub, "%d x %d x %d voxels of %s m; %ld cave voxels, smooth surface", cave.dims().nx,
+                  cave.dims().ny, cave.dims().nz, render::formatMetres(cave.voxelSize).c_str(), caveVoxels);
     render::drawTitle(img, f, viewTitle(view), sub);
     render::drawStandardLegend(img, f);
     render::drawColourBar(img, f, 1, render::depthRamp, f.depthMin, f.depthMax, false, depthLabel(view));
@@ -344,13 +344,13 @@ Image renderView(const Domain& domain, render::View view, int width, const detai
 
 namespace {
 
-std::array<render::Image, 4> renderViews(const Domain& domain, int width, const Grid3<std::uint8_t>& mask,
-                                         const detail::CaveLevelSet& ls) {
+std::array<render::Image, 4> renderViews(const Cave& cave, int width, const detail::CaveLevelSet& ls) {
+    const Grid3<std::uint8_t>& mask = cave.mask;
     long caveVoxels = 0;
     for (std::uint8_t v : mask.data) caveVoxels += v ? 1 : 0;
     std::array<render::Image, 4> out;
     for (std::size_t v = 0; v < kCaveViews.size(); ++v)
-        out[v] = renderView(domain, kCaveViews[v], width, ls, mask, caveVoxels);
+        out[v] = renderView(cave, kCaveViews[v], width, ls, mask, caveVoxels);
     return out;
 }
 
@@ -372,26 +372,24 @@ void writeViews(const std::array<render::Image, 4>& images, const std::string& i
 
 }  // namespace
 
-std::array<render::Image, 4> renderCaveViews(const Domain& domain, int width, const MeshOptions& options) {
+std::array<render::Image, 4> renderCaveViews(const Cave& cave, int width, const MeshOptions& options) {
     checkWidth(width);
-    const Grid3<std::uint8_t> mask = caveMask(domain);
     // The level set at the mesh's iso value, so the pictures show the surface of cave.obj.
-    return renderViews(domain, width, mask, detail::buildCaveSurface(mask, domain.voxelSize, options, false).levelSet);
+    return renderViews(cave, width, detail::buildCaveSurface(cave.mask, cave.voxelSize, options, false).levelSet);
 }
 
-void writeCavePictures(const Domain& domain, const std::string& imagesDir, int width) {
-    writeViews(renderCaveViews(domain, width), imagesDir);
+void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width) {
+    writeViews(renderCaveViews(cave, width), imagesDir);
 }
 
-MeshStats writeCaveMeshAndPictures(const Domain& domain, const std::string& dir, const std::string& imagesDir,
+MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir,
                                    int width, const MeshOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     checkWidth(width);
-    detail::validateMeshOptions(options, domain.voxelSize);
-    const Grid3<std::uint8_t> mask = caveMask(domain);
-    const detail::CaveSurface surface = detail::buildCaveSurface(mask, domain.voxelSize, options, true);
-    MeshStats stats = detail::writeMeshOutputs(surface.mesh, mask, domain.voxelSize, dir, options);
-    writeViews(renderViews(domain, width, mask, surface.levelSet), imagesDir);
+    detail::validateMeshOptions(options, cave.voxelSize);
+    const detail::CaveSurface surface = detail::buildCaveSurface(cave.mask, cave.voxelSize, options, true);
+    MeshStats stats = detail::writeMeshOutputs(surface.mesh, cave.mask, cave.voxelSize, dir, options);
+    writeViews(renderViews(cave, width, surface.levelSet), imagesDir);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return stats;
 }

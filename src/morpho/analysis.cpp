@@ -8,26 +8,24 @@
 
 namespace cavesim::morpho {
 
-CaveAnalysis analyseCave(const Domain& dom, const std::vector<std::optional<int>>& connectedIteration,
+CaveAnalysis analyseCave(const Cave& cave, const Grid3<float>* pressure,
+                         const std::vector<std::optional<int>>& connectedIteration,
                          const SkeletonOptions& skeletonOptions) {
     const auto t0 = std::chrono::steady_clock::now();
     CaveAnalysis a;
-    const Grid3<std::uint8_t> cave = caveMask(dom);
-    a.skeleton = skeletonize(cave, dom.voxelSize, skeletonOptions);
+    a.skeleton = skeletonize(cave.mask, cave.voxelSize, skeletonOptions);
 
     NetworkInput in;
-    in.dims = dom.dims;
-    in.voxelSize = dom.voxelSize;
-    in.cave = &cave;
-    bool anyPressure = false;
-    for (float p : dom.pressure.data) anyPressure = anyPressure || p != 0.f;
-    in.pressure = anyPressure ? &dom.pressure : nullptr;
-    in.sources = dom.sourceVoxels;
-    in.sinks = dom.sinkVoxels;
+    in.dims = cave.dims();
+    in.voxelSize = cave.voxelSize;
+    in.cave = &cave.mask;
+    in.pressure = pressure;
+    in.sources = cave.sourceVoxels;
+    in.sinks = cave.sinkVoxels;
     in.connectedIteration = connectedIteration;
     a.network = analyseNetwork(a.skeleton, in);
 
-    a.morphometry = computeMorphometry(cave, a.skeleton, dom.voxelSize);
+    a.morphometry = computeMorphometry(cave.mask, a.skeleton, cave.voxelSize);
     a.metrics = computeGraphMetrics(a.skeleton);
     a.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return a;

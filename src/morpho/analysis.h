@@ -14,7 +14,7 @@
 #include "morpho/network.h"
 #include "morpho/skeleton.h"
 #include "morpho/skeleton_io.h"  // writeSkeletonFiles, for callers
-#include "sim/domain.h"
+#include "sim/cave.h"
 
 namespace cavesim::morpho {
 
@@ -26,10 +26,13 @@ struct CaveAnalysis {
     double seconds = 0;  ///< wall time of the analysis
 };
 
-/// Skeletonizes caveMask(domain) (sim/cave.h) and measures it. `connectedIteration`: the stage-2
-/// iteration at which each source joined a sink (scenario order; empty when unknown), used to
-/// tell a captured tributary from the channel that captured it.
-CaveAnalysis analyseCave(const Domain& domain, const std::vector<std::optional<int>>& connectedIteration = {},
+/// Skeletonizes the cave (sim/cave.h) and measures it. `pressure`: the stage-2 pressure that
+/// orients the passages from sources to sinks, or nullptr when stage 2 did not run (then the
+/// network is read unoriented). `connectedIteration`: the stage-2 iteration at which each source
+/// joined a sink (scenario order; empty when unknown), used to tell a captured tributary from the
+/// channel that captured it.
+CaveAnalysis analyseCave(const Cave& cave, const Grid3<float>* pressure,
+                         const std::vector<std::optional<int>>& connectedIteration = {},
                          const SkeletonOptions& skeletonOptions = {});
 
 

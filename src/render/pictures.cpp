@@ -113,7 +113,7 @@ void outlineCave(Image& img, const Frame& f, const Grid3<std::uint8_t>& mask, in
 void finishPanel(Image& img, const Frame& f, const Domain& d, const std::string& title, const std::string& subtitle) {
     drawBlockOutline(img, f);
     drawAxes(img, f);
-    drawSourcesAndSinks(img, f, d);
+    drawSourcesAndSinks(img, f, d.dims, d.sourceVoxels, d.sinkVoxels);
     drawTitle(img, f, title, subtitle);
 }
 
@@ -211,11 +211,10 @@ Rgb fieldColour(const FieldStyle& s, double v, double lo, double hi) {
 }
 
 // One panel of a field: `slice` >= 0 draws that slice, -1 the maximum along the view axis.
-Image fieldPanel(const Domain& d, const Grid3<float>& field, const FieldStyle& style, View view, int slice, int width,
+Image fieldPanel(const Domain& d, const Grid3<std::uint8_t>& mask, const Grid3<float>& field, const FieldStyle& style, View view, int slice, int width,
                  const std::string& title, const std::string& subtitle, double lo, double hi, bool empty) {
     const Frame f = makeFrame(view, d.dims, d.voxelSize, width, 2);
     Image img = makeCanvas(f);
-    const Grid3<std::uint8_t> mask = caveMask(d);
     const CellField cells = project(
         f, [&](const Index3& p) { return valueAt(field, d.dims, p.i, p.j, p.k); }, true, slice);
     if (!empty) fillCells(img, f, [&](int u, int v) { return fieldColour(style, cells.at(u, v), lo, hi); });
@@ -229,7 +228,7 @@ Image fieldPanel(const Domain& d, const Grid3<float>& field, const FieldStyle& s
     return img;
 }
 
-Image fieldImage(const Domain& d, const Grid3<float>& field, const FieldStyle& style, int width,
+Image fieldImage(const Domain& d, const Grid3<std::uint8_t>& mask, const Grid3<float>& field, const FieldStyle& style, int width,
                  const std::string& title) {
     checkWidth(width);
     double maxValue = 0.0;
@@ -239,21 +238,20 @@ Image fieldImage(const Domain& d, const Grid3<float>& field, const FieldStyle& s
     const bool empty = !(maxValue > 0.0);
     const double hi = empty ? 1.0 : maxValue;
     const double lo = style.logScale ? hi * std::pow(10.0, -style.decades) : 0.0;
-    const Grid3<std::uint8_t> mask = caveMask(d);
     if (isSection(d))
-        return fieldPanel(d, field, style, View::kSideXZ, 0, width, title,
+        return fieldPanel(d, mask, field, style, View::kSideXZ, 0, width, title,
                           "vertical section (y = " + formatMetres(0.5 * d.voxelSize) + " m)", lo, hi, empty);
     if (style.logScale) {
-        return stackVertically({fieldPanel(d, field, style, View::kPlan, -1, width, title,
+        return stackVertically({fieldPanel(d, mask, field, style, View::kPlan, -1, width, title,
                                            "plan, largest value in each column", lo, hi, empty),
-                                fieldPanel(d, field, style, View::kSideXZ, -1, width, title + " (side x-z)",
+                                fieldPanel(d, mask, field, style, View::kSideXZ, -1, width, title + " (side x-z)",
                                            "largest value along y", lo, hi, empty)});
     }
     const int kz = busiestSlice(View::kPlan, d.dims, mask), jy = busiestSlice(View::kSideXZ, d.dims, mask);
     return stackVertically(
-        {fieldPanel(d, field, style, View::kPlan, kz, width, title,
+        {fieldPanel(d, mask, field, style, View::kPlan, kz, width, title,
                     sliceLabel(View::kPlan, kz, d.voxelSize) + " (most cave voxels)", lo, hi, empty),
-         fieldPanel(d, field, style, View::kSideXZ, jy, width, title + " (side x-z)",
+         fieldPanel(d, mask, field, style, View::kSideXZ, jy, width, title + " (side x-z)",
                     sliceLabel(View::kSideXZ, jy, d.voxelSize) + " (most cave voxels)", lo, hi, empty)});
 }
 
@@ -280,22 +278,21 @@ void writeZonesPicture(const Domain& domain, const std::string& path, int width)
     writePng(path, zonesImage(domain, width));
 }
 
-Image pressurePicture(const Domain& domain, int width) {
-    return fieldImage(domain, domain.pressure, pressureStyle(), width, "Stage 2: pressure");
+Image pressurePicture(const Domain& domain, const Grid3<std::uint8_t>& mask, int width) {
+    return fieldImage(domain, mask, domain.pressure, pressureStyle(), width, "Stage 2: pressure");
 }
 
-Image flowPicture(const Domain& domain, int width) {
-    return fieldImage(domain, domain.flow, flowStyle(), width, "Stage 2: flow");
+Image flowPicture(const Domain& domain, const Grid3<std::uint8_t>& mask, int width) {
+    return fieldImage(domain, mask, domain.flow, flowStyle(), width, "Stage 2: flow");
 }
 
-void writeFieldPictures(const Domain& domain, const std::string& imagesDir, int width) {
-    writePng(imagesDir + "/pressure.png", pressurePicture(domain, width));
-    writePng(imagesDir + "/flow.png", flowPicture(domain, width));
+void writeFieldPictures(const Domain& domain, const Grid3<std::uint8_t>& mask, const std::string& imagesDir, int width) {
+    writePng(imagesDir + "/pressure.png", pressurePicture(domain, mask, width));
+    writePng(imagesDir + "/flow.png", flowPicture(domain, mask, width));
 }
 
-Image stateFrame(const Domain& d, const std::string& title, int width) {
+Image stateFrame(const Domain& d, const Grid3<std::uint8_t>& mask, const std::string& title, int width) {
     checkWidth(width);
-    const Grid3<std::uint8_t> mask = caveMask(d);
     long cave = 0;
     for (std::uint8_t m : mask.data) cave += m;
     if (isSection(d)) {
@@ -310,10 +307,10 @@ Image stateFrame(const Domain& d, const std::string& title, int width) {
         for (float v : d.pressure.data) pmax = std::max(pmax, double(v));
         for (float v : d.flow.data) fmax = std::max(fmax, double(v));
         const FieldStyle ps = pressureStyle(), fs = flowStyle();
-        Image p = fieldPanel(d, d.pressure, ps, View::kSideXZ, 0, width, title + ": pressure", "cave outlined", 0.0,
+        Image p = fieldPanel(d, mask, d.pressure, ps, View::kSideXZ, 0, width, title + ": pressure", "cave outlined", 0.0,
                              pmax > 0 ? pmax : 1.0, !(pmax > 0));
         const double fhi = fmax > 0 ? fmax : 1.0;
-        Image fl = fieldPanel(d, d.flow, fs, View::kSideXZ, 0, width, title + ": flow", "cave outlined",
+        Image fl = fieldPanel(d, mask, d.flow, fs, View::kSideXZ, 0, width, title + ": flow", "cave outlined",
                               fhi * std::pow(10.0, -fs.decades), fhi, !(fmax > 0));
         return stackVertically({top, p, fl});
     }

@@ -29,19 +29,20 @@ Image zonesPicture(const Domain& domain, int width);
 /// imagesDir/pressure.png and imagesDir/flow.png. Pressure: the section (ny = 1) or, for a block,
 /// a horizontal slice at the depth holding most cave voxels above a vertical x–z slice at the y
 /// holding most; linear colour bar. Flow: the section, or the largest flow along each column
-/// (plan) and row (x–z); logarithmic colour bar over four decades. Cave voxels outlined.
+/// (plan) and row (x–z); logarithmic colour bar over four decades. The voxels of `mask` (the
+/// cave) are outlined.
 /// @throw InputError if width is outside [64, 16384]; RuntimeError when a file cannot be written
-void writeFieldPictures(const Domain& domain, const std::string& imagesDir, int width);
+void writeFieldPictures(const Domain& domain, const Grid3<std::uint8_t>& mask, const std::string& imagesDir, int width);
 /// The pressure and flow figures as images (writeFieldPictures without the files).
-Image pressurePicture(const Domain& domain, int width);
-Image flowPicture(const Domain& domain, int width);
+Image pressurePicture(const Domain& domain, const Grid3<std::uint8_t>& mask, int width);
+Image flowPicture(const Domain& domain, const Grid3<std::uint8_t>& mask, int width);
 
 /// One stage-2 snapshot `width` pixels wide titled `title` (e.g. "iteration 120"). A section
 /// (ny = 1) is drawn like the paper's Figure 8: the porosity (channels dark) with, under it,
 /// pressure and flow. A block is drawn as a plan: the largest porosity of each column in greys
 /// with the cave coloured by the height of its top.
 /// @throw InputError if width is outside [64, 16384]
-Image stateFrame(const Domain& domain, const std::string& title, int width);
+Image stateFrame(const Domain& domain, const Grid3<std::uint8_t>& mask, const std::string& title, int width);
 
 /// Frames laid out in `rows` rows (filled left to right, top to bottom) with a small white gap,
 /// e.g. images/sequence.png with rows = 1.

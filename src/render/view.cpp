@@ -646,7 +646,9 @@ void drawVoxelBox(Image& img, const Frame& f, const VoxelBoxInfo& b, Rgb c, doub
 
 }  // namespace
 
-void drawSourcesAndSinks(Image& img, const Frame& f, const Domain& domain) {
+void drawSourcesAndSinks(Image& img, const Frame& f, const Dims& dims,
+                         const std::vector<std::vector<std::size_t>>& sourceVoxels,
+                         const std::vector<std::vector<std::size_t>>& sinkVoxels) {
     const int ts = f.textScale;
     const double r = 3.0 * ts + 2.0;
     const double h = f.voxelSize;
@@ -654,7 +656,7 @@ void drawSourcesAndSinks(Image& img, const Frame& f, const Domain& domain) {
     std::vector<std::pair<std::array<double, 6>, Rgb>> drawn;
     auto place = [&](const std::vector<std::size_t>& voxels, Rgb c, Marker marker, const std::string& label) {
         if (voxels.empty()) return;
-        const VoxelBoxInfo b = voxelBox(voxels, domain.dims, h);
+        const VoxelBoxInfo b = voxelBox(voxels, dims, h);
         const std::array<double, 6> key{b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
         bool seen = false;
         for (const auto& [k, col] : drawn) seen = seen || (k == key && col == c);
@@ -670,11 +672,11 @@ void drawSourcesAndSinks(Image& img, const Frame& f, const Domain& domain) {
         drawTextAligned(img, flip ? int(std::lround(p.x - r - 2 * ts)) : right, int(std::lround(p.y - r - cellH(ts))),
                         label, c, ts, flip ? Align::kRight : Align::kLeft, true);
     };
-    for (std::size_t s = 0; s < domain.sinkVoxels.size(); ++s)
-        place(domain.sinkVoxels[s], colours::kSink, Marker::kSquare,
-              domain.sinkVoxels.size() == 1 ? std::string("sink") : "sink " + std::to_string(s + 1));
-    for (std::size_t s = 0; s < domain.sourceVoxels.size(); ++s)
-        place(domain.sourceVoxels[s], colours::kSource, Marker::kCircle, "S" + std::to_string(s + 1));
+    for (std::size_t s = 0; s < sinkVoxels.size(); ++s)
+        place(sinkVoxels[s], colours::kSink, Marker::kSquare,
+              sinkVoxels.size() == 1 ? std::string("sink") : "sink " + std::to_string(s + 1));
+    for (std::size_t s = 0; s < sourceVoxels.size(); ++s)
+        place(sourceVoxels[s], colours::kSource, Marker::kCircle, "S" + std::to_string(s + 1));
 }
 
 int drawLegend(Image& img, const Frame& f, int row, int x, const std::vector<LegendEntry>& entries) {

@@ -112,7 +112,9 @@ void drawBlockOutline(Image& img, const Frame& frame, const std::vector<float>* 
 int drawScaleBar(Image& img, const Frame& frame, int x, int y);
 /// Sources (red circles, labelled S1, S2, ... in scenario order) and sinks (blue squares) at the
 /// centre of their voxels, with the outline of their voxel box when it is larger than a marker.
-void drawSourcesAndSinks(Image& img, const Frame& frame, const Domain& domain);
+void drawSourcesAndSinks(Image& img, const Frame& frame, const Dims& dims,
+                         const std::vector<std::vector<std::size_t>>& sourceVoxels,
+                         const std::vector<std::vector<std::size_t>>& sinkVoxels);
 
 /// One legend entry: a marker, a colour swatch or a line sample, then text.
 struct LegendEntry {

@@ -46,6 +46,19 @@ Domain emptyDomain(const Dims& dims, double voxelSize, float porosity) {
     return dom;
 }
 
+void placeTerminals(Domain& dom, const Scenario& s) {
+    const Dims& d = dom.dims;
+    for (const SourceSpec& src : s.sources) {
+        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
+        dom.sourcePressure.push_back(src.pressure);
+        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
+    }
+    for (const SinkSpec& snk : s.sinks) {
+        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
+        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
+    }
+}
+
 Domain buildDomain(const Scenario& s, Rng& rng) {
     Domain dom = emptyDomain(Dims{s.size[0], s.size[1], s.size[2]}, s.voxelSize, float(s.rockPorosity));
     const Dims& d = dom.dims;
@@ -122,17 +135,8 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
 
     for (auto& R : dom.porosity.data) R = std::clamp(R, 0.f, 1.f);
 
-    for (const SourceSpec& src : s.sources) {
-        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
-        dom.sourcePressure.push_back(src.pressure);
-        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
-    }
-    for (const SinkSpec& snk : s.sinks) {
-        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
-        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
-    }
+    placeTerminals(dom, s);
     dom.porosity0 = dom.porosity;
-    dom.caveExtent = s.output.cave == "with_protochannels" ? CaveExtent::kWithProtochannels : CaveExtent::kChannels;
     return dom;
 }
 

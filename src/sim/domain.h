@@ -29,12 +29,6 @@ enum VoxelFlag : std::uint8_t {
 /// Explicit random engine, always passed by reference (never copied, never global).
 using Rng = std::mt19937_64;
 
-/// Which voxels make up the cave (`[output] cave`, read by `caveMask`).
-enum class CaveExtent : std::uint8_t {
-    kChannels,            ///< the stage-2 channels (protochannels only when there are none)
-    kWithProtochannels,   ///< the channels and the stage-1 protochannels
-};
-
 struct Domain {
     Dims dims;
     double voxelSize = 1.0;  ///< metres
@@ -51,8 +45,6 @@ struct Domain {
     std::vector<std::vector<std::size_t>> sourceVoxels;
     std::vector<double> sourcePressure;  ///< relative pressure of each source
     std::vector<std::vector<std::size_t>> sinkVoxels;
-
-    CaveExtent caveExtent = CaveExtent::kChannels;  ///< `[output] cave`
 };
 
 /// A domain of `dims` voxels of `voxelSize` metres, uniform porosity (porosity0 the same), no
@@ -63,6 +55,11 @@ Domain emptyDomain(const Dims& dims, double voxelSize, float porosity);
 /// Builds the porosity grid and flags from a validated scenario. Deterministic for `rng`'s state.
 /// @throw InputError if the scenario describes something impossible (caught by validation first).
 Domain buildDomain(const Scenario& scenario, Rng& rng);
+
+/// Sets the sources and sinks of `scenario` in `domain`: their voxels (boxes clipped to the
+/// grid), the sources' relative pressures and the kSource / kSink flags. Part of `buildDomain`;
+/// also recovers the terminals of a run from its scenario when its grids are read back.
+void placeTerminals(Domain& domain, const Scenario& scenario);
 
 /// World position (metres) of a voxel centre.
 inline std::array<double, 3> worldFromIndex(const Index3& p, double voxelSize) {

@@ -22,6 +22,28 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+template <typename E>
+struct EnumName {
+    E value;
+    const char* name;
+};
+constexpr EnumName<ProtosinkMode> kProtosinkNames[] = {{ProtosinkMode::kBoundary, "boundary"}, {ProtosinkMode::kClustered, "clustered"}};
+constexpr EnumName<ZoneSpeed> kZoneSpeedNames[] = {{ZoneSpeed::kUniform, "uniform"}, {ZoneSpeed::kPorosity, "porosity"}};
+constexpr EnumName<GridFace> kFaceNames[] = {{GridFace::kMinusX, "-x"}, {GridFace::kPlusX, "+x"}, {GridFace::kMinusY, "-y"},
+                                             {GridFace::kPlusY, "+y"},  {GridFace::kMinusZ, "-z"}, {GridFace::kPlusZ, "+z"}};
+constexpr EnumName<TransportWeight> kWeightNames[] = {{TransportWeight::kProportional, "proportional"}, {TransportWeight::kUniform, "uniform"}};
+constexpr EnumName<FlowBlending> kBlendingNames[] = {{FlowBlending::kMax, "max"}, {FlowBlending::kSplit, "split"}};
+constexpr EnumName<MeshStyle> kMeshStyleNames[] = {{MeshStyle::kSmooth, "smooth"}, {MeshStyle::kVoxel, "voxel"}};
+constexpr EnumName<CaveExtent> kCaveNames[] = {{CaveExtent::kChannels, "channels"}, {CaveExtent::kWithProtochannels, "with_protochannels"}};
+constexpr EnumName<PlaneKind> kPlaneKindNames[] = {{PlaneKind::kBedding, "bedding"}, {PlaneKind::kFracture, "fracture"}};
+
+template <typename E, std::size_t N>
+std::string nameOf(const EnumName<E> (&table)[N], E v) {
+    for (const auto& e : table)
+        if (e.value == v) return e.name;
+    return "?";
+}
+
 /// Shortest decimal text that reads back as the same double (0.3, not 0.29999999999999999).
 std::string shortest(double v) {
     char buf[64];
@@ -189,15 +211,17 @@ public:
         return b->get();
     }
 
-    std::string choice(const std::string& key, const std::string& def, const std::vector<std::string>& allowed) {
+    template <typename E, std::size_t N>
+    E choice(const std::string& key, E def, const EnumName<E> (&allowed)[N]) {
         const toml::node* n = get(key);
         if (!n) return def;
         std::string list;
-        for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
+        for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + std::string(a.name) + "\"";
         auto s = n->as_string();
         if (!s) fail(key, n, "must be one of " + list);
-        if (std::find(allowed.begin(), allowed.end(), s->get()) == allowed.end()) fail(key, n, "must be one of " + list);
-        return s->get();
+        for (const auto& a : allowed)
+            if (s->get() == a.name) return a.value;
+        fail(key, n, "must be one of " + list);
     }
 
     Vec3d vec3(const std::string& key, const Vec3d& def, double lo, double hi, bool required = false) {
@@ -381,7 +405,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
             p.thickness = pr.number("thickness", p.thickness, 0, 1e6, true);
             p.porosity = pr.number("porosity", p.porosity, 0, 1);
             p.extent = pr.number("extent", 0.0, 0, 1e6);
-            p.kind = pr.choice("kind", p.kind, {"bedding", "fracture"});
+            p.kind = pr.choice("kind", p.kind, kPlaneKindNames);
             pr.finish({"point", "normal", "thickness", "porosity", "extent", "kind"});
             s.planes.push_back(p);
         }
@@ -435,9 +459,9 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
 
     if (const toml::table* t = top.subtable("stage1")) {
         TableReader r(*t, "stage1", file);
-        Stage1Settings& g = s.stage1;
+        Stage1Options& g = s.stage1;
         g.enabled = r.boolean("enabled", g.enabled);
-        g.protosinks = r.choice("protosinks", g.protosinks, {"boundary", "clustered"});
+        g.protosinks = r.choice("protosinks", g.protosinks, kProtosinkNames);
         g.clusters = int(r.integer("clusters", g.clusters, 1, 64));
         g.clusterRadius = r.number("cluster_radius", g.clusterRadius, 0, 1e6);
         if (const toml::node* n = r.get("aim")) {
@@ -446,12 +470,11 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
             if (a->size() > 1024) r.fail("aim", n, "must have at most 1024 points");
             for (const toml::node& e : *a) g.aim.push_back(r.toVec3("aim", e, -ext, ext));
         }
-        g.permeability = r.choice("permeability", g.permeability, {"uniform", "porosity"});
+        g.permeability = r.choice("permeability", g.permeability, kZoneSpeedNames);
         g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
         g.capacityExponent = r.number("capacity_exponent", g.capacityExponent, 0, 8, true);
         g.maxGraphVoxels = r.integer("max_graph_voxels", g.maxGraphVoxels, 1, 1000000000L);
         if (const toml::node* n = r.get("boundary_faces")) {
-            const std::vector<std::string> names{"-x", "+x", "-y", "+y", "-z", "+z"};
             const std::string allowed =
                 "must be an array of distinct grid faces out of \"-x\", \"+x\", \"-y\", \"+y\", \"-z\", \"+z\" "
                 "(may be empty)";
@@ -460,10 +483,13 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
             g.boundaryFaces.clear();
             for (const toml::node& e : *a) {
                 auto str = e.as_string();
-                if (!str || std::find(names.begin(), names.end(), str->get()) == names.end() ||
-                    std::find(g.boundaryFaces.begin(), g.boundaryFaces.end(), str->get()) != g.boundaryFaces.end())
+                if (!str) r.fail("boundary_faces", n, allowed);
+                const auto face = std::find_if(std::begin(kFaceNames), std::end(kFaceNames),
+                                               [&](const auto& f) { return str->get() == f.name; });
+                if (face == std::end(kFaceNames) ||
+                    std::find(g.boundaryFaces.begin(), g.boundaryFaces.end(), face->value) != g.boundaryFaces.end())
                     r.fail("boundary_faces", n, allowed);
-                g.boundaryFaces.push_back(str->get());
+                g.boundaryFaces.push_back(face->value);
             }
         }
         g.protosinkShare = r.number("protosink_share", g.protosinkShare, 0, 1, true);
@@ -475,7 +501,7 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
     }
     if (const toml::table* t = top.subtable("stage2")) {
         TableReader r(*t, "stage2", file);
-        Stage2Settings& g = s.stage2;
+        Stage2Options& g = s.stage2;
         g.enabled = r.boolean("enabled", g.enabled);
         g.iterations = int(r.integer("iterations", g.iterations, 0, 1000000));
         g.pRate = r.number("p_rate", g.pRate, 0, 1e6, true);
@@ -496,8 +522,8 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
         g.channelThreshold = r.number("channel_threshold", g.channelThreshold, 0, 1, true);
         g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
         g.sourcePorosity = r.number("source_porosity", g.sourcePorosity, 0, 1, true);
-        g.weight = r.choice("weight", g.weight, {"proportional", "uniform"});
-        g.blending = r.choice("blending", g.blending, {"max", "split"});
+        g.weight = r.choice("weight", g.weight, kWeightNames);
+        g.blending = r.choice("blending", g.blending, kBlendingNames);
         if (const toml::node* n = r.get("snapshots")) {
             auto a = n->as_array();
             if (!a) r.fail("snapshots", n, "must be an array of iteration numbers");
@@ -510,12 +536,12 @@ Scenario parseTable(const toml::table& root, const std::string& file) {
     }
     if (const toml::table* t = top.subtable("output")) {
         TableReader r(*t, "output", file);
-        OutputSettings& o = s.output;
-        o.meshStyle = r.choice("mesh_style", o.meshStyle, {"smooth", "voxel"});
+        OutputOptions& o = s.output;
+        o.meshStyle = r.choice("mesh_style", o.meshStyle, kMeshStyleNames);
         o.imageWidth = int(r.integer("image_width", o.imageWidth, 256, 8192));
         o.images = r.boolean("images", o.images);
         o.mesh = r.boolean("mesh", o.mesh);
-        o.cave = r.choice("cave", o.cave, {"channels", "with_protochannels"});
+        o.cave = r.choice("cave", o.cave, kCaveNames);
         r.finish({"mesh_style", "image_width", "images", "mesh", "cave"});
     }
     top.finish({"name", "seed", "domain", "rock", "source", "sink", "stage1", "stage2", "output"});
@@ -600,6 +626,15 @@ Scenario parseScenarioFile(const std::string& path) {
     return parseScenarioString(buf.str(), path);
 }
 
+std::string choiceName(ProtosinkMode v) { return nameOf(kProtosinkNames, v); }
+std::string choiceName(ZoneSpeed v) { return nameOf(kZoneSpeedNames, v); }
+std::string choiceName(TransportWeight v) { return nameOf(kWeightNames, v); }
+
+std::string scenarioKey(const Scenario& s, const void* field) {
+    if (field == &s.stage1.maxGraphVoxels) return "stage1.max_graph_voxels";
+    throw RuntimeError("scenarioKey: not a registered field");
+}
+
 Scenario defaultScenario() { return parseScenarioString(kDefaultScenarioToml, "<built-in fig10>"); }
 
 namespace {
@@ -640,7 +675,7 @@ std::string scenarioToToml(const Scenario& s) {
                                     {"thickness", p.thickness},
                                     {"porosity", p.porosity},
                                     {"extent", p.extent},
-                                    {"kind", p.kind}});
+                                    {"kind", nameOf(kPlaneKindNames, p.kind)}});
         rock.insert("plane", a);
     }
     if (!s.channels.empty()) {
@@ -668,17 +703,17 @@ std::string scenarioToToml(const Scenario& s) {
     for (const auto& snk : s.sinks) sinks.push_back(boxTable(snk.box));
     if (!sinks.empty()) root.insert("sink", sinks);
 
-    const Stage1Settings& g1 = s.stage1;
+    const Stage1Options& g1 = s.stage1;
     toml::array aim;
     for (const auto& p : g1.aim) aim.push_back(arr3(p));
     toml::array faces;
-    for (const auto& f : g1.boundaryFaces) faces.push_back(f);
+    for (const GridFace f : g1.boundaryFaces) faces.push_back(nameOf(kFaceNames, f));
     root.insert("stage1", toml::table{{"enabled", g1.enabled},
-                                      {"protosinks", g1.protosinks},
+                                      {"protosinks", nameOf(kProtosinkNames, g1.protosinks)},
                                       {"clusters", g1.clusters},
                                       {"cluster_radius", g1.clusterRadius},
                                       {"aim", aim},
-                                      {"permeability", g1.permeability},
+                                      {"permeability", nameOf(kZoneSpeedNames, g1.permeability)},
                                       {"protochannel_porosity", g1.protochannelPorosity},
                                       {"capacity_exponent", g1.capacityExponent},
                                       {"max_graph_voxels", static_cast<std::int64_t>(g1.maxGraphVoxels)},
@@ -686,7 +721,7 @@ std::string scenarioToToml(const Scenario& s) {
                                       {"protosink_share", g1.protosinkShare},
                                       {"branch_flow", g1.branchFlow},
                                       {"resistance_noise", g1.resistanceNoise}});
-    const Stage2Settings& g2 = s.stage2;
+    const Stage2Options& g2 = s.stage2;
     toml::array snaps;
     for (int it : g2.snapshots) snaps.push_back(it);
     root.insert("stage2", toml::table{{"enabled", g2.enabled},
@@ -700,14 +735,14 @@ std::string scenarioToToml(const Scenario& s) {
                                       {"channel_threshold", g2.channelThreshold},
                                       {"protochannel_porosity", g2.protochannelPorosity},
                                       {"source_porosity", g2.sourcePorosity},
-                                      {"weight", g2.weight},
-                                      {"blending", g2.blending},
+                                      {"weight", nameOf(kWeightNames, g2.weight)},
+                                      {"blending", nameOf(kBlendingNames, g2.blending)},
                                       {"snapshots", snaps}});
-    root.insert("output", toml::table{{"mesh_style", s.output.meshStyle},
+    root.insert("output", toml::table{{"mesh_style", nameOf(kMeshStyleNames, s.output.meshStyle)},
                                       {"image_width", s.output.imageWidth},
                                       {"images", s.output.images},
                                       {"mesh", s.output.mesh},
-                                      {"cave", s.output.cave}});
+                                      {"cave", nameOf(kCaveNames, s.output.cave)}});
     std::ostringstream os;
     os << "# Effective scenario: every key with its value, defaults filled in.\n" << root << "\n";
     return os.str();

@@ -28,6 +28,16 @@ void validateScenario(const Scenario& scenario);
 /// The effective scenario as TOML, every default filled in; parses back to an equal scenario.
 std::string scenarioToToml(const Scenario& scenario);
 
+/// The dotted key ("stage1.max_graph_voxels") of the field at address `field` inside `scenario`,
+/// from the parameter registry, for messages that point at a key.
+/// @throw InternalError if `field` is not a registered field of `scenario`
+std::string scenarioKey(const Scenario& scenario, const void* field);
+
+/// The scenario-file name of a choice ("clustered", "porosity", "proportional").
+std::string choiceName(ProtosinkMode v);
+std::string choiceName(ZoneSpeed v);
+std::string choiceName(TransportWeight v);
+
 /// The built-in default scenario (the Figure 10 scenario, scenarios/fig10.toml).
 Scenario defaultScenario();
 

@@ -44,16 +44,9 @@ struct ZoneWork {
     ZoneStats stats;
 };
 
-flownet::GridFaces gridFaces(const std::vector<std::string>& names) {
-    static const char* const kNames[6] = {"-x", "+x", "-y", "+y", "-z", "+z"};
+flownet::GridFaces gridFaces(const std::vector<GridFace>& list) {
     flownet::GridFaces faces{};
-    for (const std::string& s : names) {
-        const auto it = std::find(std::begin(kNames), std::end(kNames), s);
-        if (it == std::end(kNames))
-            throw InputError("key 'stage1.boundary_faces': unknown face \"" + s +
-                             "\"; allowed: -x, +x, -y, +y, -z, +z");
-        faces[std::size_t(it - std::begin(kNames))] = true;
-    }
+    for (const GridFace f : list) faces[std::size_t(f)] = true;
     return faces;
 }
 
@@ -65,7 +58,7 @@ std::string withThousands(long v) {
 
 }  // namespace
 
-Grid3<std::int32_t> pressureZones(const Domain& domain, const Scenario& scenario) {
+Grid3<std::int32_t> pressureZones(const Domain& domain, ZoneSpeed speed) {
     const Dims& d = domain.dims;
     std::vector<fastmarch::Seed> seeds;
     for (std::size_t s = 0; s < domain.sourceVoxels.size(); ++s)
@@ -77,7 +70,7 @@ Grid3<std::int32_t> pressureZones(const Domain& domain, const Scenario& scenario
     // so the mean merely keeps the numbers near 1.
     Grid3<float> slowness;
     const Grid3<float>* slow = nullptr;
-    if (scenario.stage1.permeability == "porosity") {
+    if (speed == ZoneSpeed::kPorosity) {
         double sum = 0;
         for (float r : domain.porosity.data) sum += r;
         const double mean = sum / double(domain.porosity.size());
@@ -93,9 +86,16 @@ Grid3<std::int32_t> pressureZones(const Domain& domain, const Scenario& scenario
     return fastmarch::marchLabelled(d, slow, seeds, domain.sourcePressure).label;
 }
 
-Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const ProgressFn& progress) {
+Grid3<float> stage1DisplayPorosity(const Domain& domain, double protochannelPorosity) {
+    Grid3<float> shown = domain.porosity;
+    const float raised = float(protochannelPorosity);
+    for (std::size_t v = 0; v < shown.size(); ++v)
+        if (domain.flags[v] & kProtochannel) shown[v] = std::max(shown[v], raised);
+    return shown;
+}
+
+Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const ProgressFn& progress) {
     const auto t0 = Clock::now();
-    const Stage1Settings& g = scenario.stage1;
     const Dims& d = domain.dims;
     const std::size_t nSources = domain.sourceVoxels.size();
     Stage1Result result;
@@ -105,7 +105,7 @@ Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const
 
     // 1. Zones.
     reportProgress(progress, "stage 1: pressure zones", 0, 1);
-    domain.zone = pressureZones(domain, scenario);
+    domain.zone = pressureZones(domain, g.permeability);
     result.zoneSeconds = since(t0);
     reportProgress(progress, "stage 1: pressure zones", 1, 1);
 
@@ -119,14 +119,13 @@ Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const
     for (std::size_t z = 0; z < nSources; ++z) {
         if (result.zoneVoxels[z] > 0) ++result.zones;
         if (result.zoneVoxels[z] > g.maxGraphVoxels) {
-            const int line = z < scenario.sources.size() ? scenario.sources[z].line : 0;
-            throw InputError(scenario.path + ": key 'stage1.max_graph_voxels' = " + std::to_string(g.maxGraphVoxels) +
-                             ": the pressure zone of [[source]] " + std::to_string(z + 1) +
-                             (line > 0 ? " (line " + std::to_string(line) + ")" : std::string()) + " has " +
-                             withThousands(result.zoneVoxels[z]) + " voxels; its flow network would need about " +
-                             withThousands(long(double(result.zoneVoxels[z]) * kBytesPerVoxel / 1e6)) +
-                             " MB. Raise max_graph_voxels (up to 1e9) if the memory is there, or add sources to "
-                             "split the domain into smaller zones");
+            throw Stage1LimitError("the pressure zone of source " + std::to_string(z + 1) + " has " +
+                                       withThousands(result.zoneVoxels[z]) + " voxels, more than the limit of " +
+                                       withThousands(g.maxGraphVoxels) + "; its flow network would need about " +
+                                       withThousands(long(double(result.zoneVoxels[z]) * kBytesPerVoxel / 1e6)) +
+                                       " MB. Raise the limit (up to 1e9) if the memory is there, or add sources to "
+                                       "split the domain into smaller zones",
+                                   int(z));
         }
     }
     // Zones are solved in parallel: the largest ones that can run at once must fit in memory.
@@ -138,12 +137,13 @@ Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const
         for (std::size_t k = 0; k < atOnce; ++k) need += double(sizes[k]) * kBytesPerVoxel;
         const double limit = memoryLimitBytes();
         if (limit > 0 && need > 0.8 * limit)
-            throw InputError(scenario.path + ": stage 1 would need about " + withThousands(long(need / 1e6)) +
+            throw Stage1LimitError("stage 1 would need about " + withThousands(long(need / 1e6)) +
                              " MB for the flow networks of its " + std::to_string(atOnce) +
                              " largest pressure zone(s) solved at once, more than 80 % of the " +
                              withThousands(long(limit / 1e6)) +
                              " MB this process may use; make the domain smaller, add sources to split it into "
-                             "smaller zones, or run with fewer threads (--threads)");
+                             "smaller zones, or run with fewer threads (--threads)",
+                                   -1);
     }
 
     // 2. Sources and protosinks per zone (sequential: the random cluster centres come from rng
@@ -158,7 +158,7 @@ Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const
         std::vector<std::size_t> candidates;
         for (std::size_t v : flownet::zoneBoundary(domain.zone, w.voxels, int(z), faces))
             if (!(domain.flags[v] & kSource)) candidates.push_back(v);
-        if (g.protosinks == "clustered") {
+        if (g.protosinks == ProtosinkMode::kClustered) {
             const auto centres = flownet::chooseClusterCentres(d, candidates, g.clusters, g.aim, rng);
             w.protosinks = flownet::clusterProtosinks(d, candidates, centres, g.clusterRadius);
             // The rest of the boundary is left out of the network: channels stay off the zone's edge.
@@ -217,12 +217,8 @@ Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const
     });
 
     // 4. Write back in source order.
-    const float raised = float(g.protochannelPorosity);
     for (std::size_t z = 0; z < nSources; ++z) {
-        for (std::size_t v : work[z].traced) {
-            domain.flags[v] |= kProtochannel;
-            domain.porosity[v] = std::max(domain.porosity[v], raised);
-        }
+        for (std::size_t v : work[z].traced) domain.flags[v] |= kProtochannel;
         result.protochannelVoxels += long(work[z].traced.size());
         result.perZone[z] = work[z].stats;
     }

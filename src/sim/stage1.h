@@ -41,8 +41,9 @@
 #include <vector>
 
 #include "core/progress.h"
+#include "core/error.h"
 #include "sim/domain.h"
-#include "sim/scenario.h"
+#include "sim/options.h"
 
 namespace cavesim {
 
@@ -73,15 +74,29 @@ struct Stage1Result {
     double zoneSeconds = 0;          ///< wall time of the zone division
 };
 
-/// Runs stage 1 on a freshly built domain: sets domain.zone (source index, −1 none), flags traced
-/// voxels kProtochannel, raises their porosity to stage1.protochannelPorosity (the paper's
-/// "display erosion"; porosity0 stays the initial rock). Deterministic for the rng state and any
-/// thread count.
-/// @throw InputError if a zone has more voxels than `[stage1] max_graph_voxels` (checked before
-///        any network is built)
-Stage1Result runStage1(Domain& domain, const Scenario& scenario, Rng& rng, const ProgressFn& progress = {});
+/// A stage-1 limit exceeded by the scenario (user input, exit 2): a zone larger than
+/// `Stage1Options::maxGraphVoxels`, or networks that would not fit in memory. The message says
+/// what to change; `source` is the index of the offending source (−1 for the memory limit), so the
+/// caller can point at the scenario entry and key.
+class Stage1LimitError : public InputError {
+public:
+    Stage1LimitError(const std::string& message, int source) : InputError(message), source(source) {}
+    int source;
+};
+
+/// Runs stage 1 on a freshly built domain: sets domain.zone (source index, −1 none) and flags
+/// traced voxels kProtochannel. Porosity is not changed (the display of protochannels as opened
+/// channels, `Stage1Options::protochannelPorosity`, is the outputs' business: `stage1DisplayPorosity`).
+/// Deterministic for the rng state and any thread count.
+/// @throw Stage1LimitError if a zone has more voxels than `options.maxGraphVoxels` (checked
+///        before any network is built) or the networks solved at once would not fit in memory
+Stage1Result runStage1(Domain& domain, const Stage1Options& options, Rng& rng, const ProgressFn& progress = {});
 
 /// The zone division alone (step 1): zone label per voxel (source index, −1 none).
-Grid3<std::int32_t> pressureZones(const Domain& domain, const Scenario& scenario);
+Grid3<std::int32_t> pressureZones(const Domain& domain, ZoneSpeed speed);
+
+/// The porosity after stage 1 as the paper displays it: protochannel voxels opened to at least
+/// `protochannelPorosity` ("display erosion"), every other voxel as it is.
+Grid3<float> stage1DisplayPorosity(const Domain& domain, double protochannelPorosity);
 
 }  // namespace cavesim

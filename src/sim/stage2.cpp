@@ -128,7 +128,7 @@ void forEachRow(const Dims& d, Body&& body) {
     });
 }
 
-Grid3<float> rateField(const Domain& dom, const Stage2Settings& g) {
+Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
     Grid3<float> rate(dom.dims, float(g.pRate));
     for (std::size_t v = 0; v < rate.size(); ++v)
         if (dom.flags[v] & kLowRate) rate[v] = float(g.pRateChannel);
@@ -178,19 +178,18 @@ std::vector<bool> connectedSources(const Domain& dom) {
 
 }  // namespace
 
-double stage2PressureCap(const Scenario& s) {
+double stage2PressureCap(const Domain& dom, const Stage2Options& g) {
     double pmax = 0;
-    for (const auto& src : s.sources) pmax = std::max(pmax, src.pressure);
+    for (double p : dom.sourcePressure) pmax = std::max(pmax, p);
     if (pmax <= 0) pmax = 1;
-    const double scale = s.stage2.pressureScale > 0
-                             ? s.stage2.pressureScale
-                             : 2.0 * s.stage2.pRate * double(s.size[0] + s.size[1] + s.size[2]);
+    const double scale = g.pressureScale > 0 ? g.pressureScale
+                                             : 2.0 * g.pRate * double(dom.dims.nx + dom.dims.ny + dom.dims.nz);
     return pmax * scale;
 }
 
-void prepareStage2(Domain& dom, const Scenario& s) {
-    const float proto = float(s.stage2.protochannelPorosity);
-    const float sourcePorosity = float(s.stage2.sourcePorosity);
+void prepareStage2(Domain& dom, const Stage2Options& g) {
+    const float proto = float(g.protochannelPorosity);
+    const float sourcePorosity = float(g.sourcePorosity);
     for (std::size_t v = 0; v < dom.porosity.size(); ++v) {
         float R = dom.porosity0[v];
         std::uint8_t& f = dom.flags[v];
@@ -205,19 +204,18 @@ void prepareStage2(Domain& dom, const Scenario& s) {
     std::fill(dom.pressure.data.begin(), dom.pressure.data.end(), 0.f);
 }
 
-Grid3<double> solvePressureFull(const Domain& dom, const Scenario& s) {
+Grid3<double> solvePressureFull(const Domain& dom, const Stage2Options& g) {
     fastmarch::EikonalField field;
-    field.solve(dom.dims, rateField(dom, s.stage2), sinkSeeds(dom), stage2PressureCap(s), fastmarch::Stencil::kAvalanche26);
+    field.solve(dom.dims, rateField(dom, g), sinkSeeds(dom), stage2PressureCap(dom, g), fastmarch::Stencil::kAvalanche26);
     return field.value();
 }
 
-Stage2Result runStage2(Domain& dom, const Scenario& s, const ProgressFn& progress, const SnapshotFn& snapshot) {
+Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& progress, const SnapshotFn& snapshot) {
     const auto t0 = Clock::now();
-    const Stage2Settings& g = s.stage2;
     const Dims d = dom.dims;
     const std::size_t n = d.count();
     Stage2Result res;
-    res.pressureCap = stage2PressureCap(s);
+    res.pressureCap = stage2PressureCap(dom, g);
     res.sourceConnectedIteration.assign(dom.sourceVoxels.size(), std::nullopt);
 
     // Relative refill level of each source: the strongest source refills to full capacity,
@@ -253,8 +251,8 @@ Stage2Result runStage2(Domain& dom, const Scenario& s, const ProgressFn& progres
     const std::size_t rows = std::size_t(d.ny) * std::size_t(d.nz);
     std::vector<std::uint8_t> wetRow(rows, 0), offerRow(rows, 0), flowRow(rows, 0);
     std::vector<std::size_t> changed;
-    const bool proportional = g.weight == "proportional";
-    const bool splitBlending = g.blending == "split";
+    const bool proportional = g.weight == TransportWeight::kProportional;
+    const bool splitBlending = g.blending == FlowBlending::kSplit;
     double stored = 0;
 
     for (int it = 1; it <= g.iterations; ++it) {

@@ -29,7 +29,7 @@
 
 #include "core/progress.h"
 #include "sim/domain.h"
-#include "sim/scenario.h"
+#include "sim/options.h"
 
 namespace cavesim {
 
@@ -62,24 +62,25 @@ struct Stage2Result {
 /// Called after the iterations listed in `[stage2] snapshots` (and never otherwise).
 using SnapshotFn = std::function<void(int iteration, const Domain& domain)>;
 
-/// The interim step between the stages (paper §4, DESIGN §2): resets porosity to its initial
-/// values (dropping stage 1's display erosion), raises protochannel voxels to
-/// `stage2.protochannel_porosity`, opens sources and sinks (porosity 1: they are the inlets and
-/// outlets) and clears water, flow and channel flags. Protochannel voxels keep their flag and so
-/// the channel pressure rate. Also used for stage-2-only runs, whose protochannels come from
+/// The interim step between the stages (paper §4): porosity back to its initial values,
+/// protochannel voxels raised to `options.protochannelPorosity`, sources set to
+/// `options.sourcePorosity` and sinks opened (porosity 1: they are the inlets and outlets);
+/// water, flow, pressure and channel flags cleared. Protochannel voxels keep their flag and so the
+/// channel pressure rate. Also used for stage-2-only runs, whose protochannels come from
 /// `[[rock.channel]]`.
-void prepareStage2(Domain& domain, const Scenario& scenario);
+void prepareStage2(Domain& domain, const Stage2Options& options);
 
-/// The stage-2 pressure cap: max source pressure × pressure_scale (auto when 0, see scenario.h).
-double stage2PressureCap(const Scenario& scenario);
+/// The stage-2 pressure cap: the largest source pressure × `options.pressureScale`, or, when that
+/// is 0, × 2 · pRate · (nx + ny + nz).
+double stage2PressureCap(const Domain& domain, const Stage2Options& options);
 
 /// Runs the stage-2 iterations on a prepared domain.
 /// @throw RuntimeError if water conservation or finiteness is violated (a bug, never user input)
-Stage2Result runStage2(Domain& domain, const Scenario& scenario, const ProgressFn& progress = {},
+Stage2Result runStage2(Domain& domain, const Stage2Options& options, const ProgressFn& progress = {},
                        const SnapshotFn& snapshot = {});
 
 /// Recomputes the pressure of the current domain from scratch (used by tests and by the
 /// incremental-update check): same rule as inside runStage2.
-Grid3<double> solvePressureFull(const Domain& domain, const Scenario& scenario);
+Grid3<double> solvePressureFull(const Domain& domain, const Stage2Options& options);
 
 }  // namespace cavesim

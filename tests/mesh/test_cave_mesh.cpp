@@ -266,9 +266,6 @@ TEST(CaveMesh, RejectsBadOptions) {
     o.subdivision = 9;
     EXPECT_THROW(buildCaveMesh(m, 1.0, o), InputError);
     o = {};
-    o.style = "cubes";
-    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InputError);
-    o = {};
     o.tubeRadius = 0.1;
     EXPECT_THROW(buildCaveMesh(m, 1.0, o), InputError);
     o = {};

@@ -42,7 +42,7 @@ Domain lChannel(bool withCave = true) {
 
 long caveVoxels(const Domain& d) {
     long n = 0;
-    for (std::uint8_t v : caveMask(d).data) n += v;
+    for (std::uint8_t v : caveMask(d, CaveExtent::kChannels).data) n += v;
     return n;
 }
 
@@ -60,7 +60,7 @@ long countFiles(const fs::path& dir) {
 TEST(CaveMeshFiles, WritesObjAndPlyThatReadBackAsTheSameClosedMesh) {
     const fs::path dir = freshDir("files");
     const Domain d = lChannel();
-    const MeshStats stats = writeCaveMesh(d, dir.string());
+    const MeshStats stats = writeCaveMesh(makeCave(d, CaveExtent::kChannels), dir.string());
     EXPECT_TRUE(stats.closed);
     EXPECT_TRUE(stats.manifold);
     EXPECT_EQ(stats.components, 1);
@@ -99,7 +99,7 @@ TEST(CaveMeshFiles, ObjNormalsPointOutOfTheCave) {
             for (int i = 0; i < 24; ++i)
                 if (std::pow(i + 0.5 - 12, 2) + std::pow(j + 0.5 - 8, 2) + std::pow(k + 0.5 - 5, 2) <= 3.5 * 3.5)
                     d.flags.at(i, j, k) |= kChannel;
-    writeCaveMesh(d, dir.string());
+    writeCaveMesh(makeCave(d, CaveExtent::kChannels), dir.string());
     std::ifstream in(dir / "cave.obj");
     std::string line;
     std::vector<std::array<double, 3>> v, vn;
@@ -123,8 +123,8 @@ TEST(CaveMeshFiles, VoxelStyleAlsoWritesTheBlockyMesh) {
     const fs::path dir = freshDir("voxel");
     const Domain d = lChannel();
     MeshOptions o;
-    o.style = "voxel";
-    writeCaveMesh(d, dir.string(), o);
+    o.style = MeshStyle::kVoxel;
+    writeCaveMesh(makeCave(d, CaveExtent::kChannels), dir.string(), o);
     ASSERT_TRUE(fs::exists(dir / "cave_voxels.obj"));
     const MeshStats s = measureMesh(readMeshFile((dir / "cave_voxels.obj").string()));
     EXPECT_NEAR(s.volumeM3, double(caveVoxels(d)) * 0.125, 1e-9);  // exactly the cubes
@@ -133,7 +133,7 @@ TEST(CaveMeshFiles, VoxelStyleAlsoWritesTheBlockyMesh) {
 
 TEST(CaveMeshFiles, EmptyCaveWritesNothing) {
     const fs::path dir = freshDir("empty");
-    const MeshStats s = writeCaveMesh(lChannel(false), dir.string());
+    const MeshStats s = writeCaveMesh(makeCave(lChannel(false), CaveExtent::kChannels), dir.string());
     EXPECT_EQ(s.faces, 0);
     EXPECT_EQ(s.vertices, 0);
     EXPECT_DOUBLE_EQ(s.volumeM3, 0.0);
@@ -144,8 +144,8 @@ TEST(CaveMeshFiles, RejectsBadInput) {
     const fs::path dir = freshDir("bad");
     MeshOptions o;
     o.adaptivity = 2.0;
-    EXPECT_THROW(writeCaveMesh(lChannel(), dir.string(), o), InputError);
-    EXPECT_THROW(writeCaveMesh(lChannel(), (dir / "no" / "such" / "dir").string()), RuntimeError);
+    EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), dir.string(), o), InputError);
+    EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), (dir / "no" / "such" / "dir").string()), RuntimeError);
     EXPECT_THROW(writeMeshFile(TriangleMesh{}, (dir / "x.stl").string()), InputError);
     EXPECT_THROW(readMeshFile((dir / "none.obj").string()), RuntimeError);
 }
@@ -187,7 +187,7 @@ TEST(MeasureMesh, DetectsOpenAndInconsistentMeshes) {
 TEST(CavePictures, FourViewsOfTheRequestedWidthShowTheCave) {
     const Domain d = lChannel();
     const int width = 480;
-    const auto views = renderCaveViews(d, width);
+    const auto views = renderCaveViews(makeCave(d, CaveExtent::kChannels), width);
     for (std::size_t v = 0; v < views.size(); ++v) {
         EXPECT_EQ(views[v].width, width) << render::viewStem(kCaveViews[v]);
         EXPECT_GT(pixelVariance(views[v]), 100.0);
@@ -209,7 +209,7 @@ TEST(CavePictures, FourViewsOfTheRequestedWidthShowTheCave) {
 }
 
 TEST(CavePictures, EmptyCaveStillShowsTheBlock) {
-    const auto views = renderCaveViews(lChannel(false), 300);
+    const auto views = renderCaveViews(makeCave(lChannel(false), CaveExtent::kChannels), 300);
     for (const auto& v : views) {
         EXPECT_EQ(v.width, 300);
         EXPECT_GT(pixelVariance(v), 10.0);
@@ -218,24 +218,24 @@ TEST(CavePictures, EmptyCaveStillShowsTheBlock) {
 
 TEST(CavePictures, SameForAnyThreadCount) {
     const Domain d = lChannel();
-    const auto many = renderCaveViews(d, 320);
+    const auto many = renderCaveViews(makeCave(d, CaveExtent::kChannels), 320);
     std::array<render::Image, 4> one;
     {
         tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
-        one = renderCaveViews(d, 320);
+        one = renderCaveViews(makeCave(d, CaveExtent::kChannels), 320);
     }
     for (std::size_t v = 0; v < 4; ++v) EXPECT_EQ(many[v].pixels, one[v].pixels);
 }
 
 TEST(CavePictures, WritesFourPngs) {
     const fs::path dir = freshDir("pictures");
-    writeCavePictures(lChannel(), (dir / "images").string(), 256);
+    writeCavePictures(makeCave(lChannel(), CaveExtent::kChannels), (dir / "images").string(), 256);
     EXPECT_EQ(countFiles(dir / "images"), 4);
     for (const char* name : {"perspective.png", "plan.png", "side_xz.png", "side_yz.png"}) {
         const render::Image img = render::readPng((dir / "images" / name).string());
         EXPECT_EQ(img.width, 256) << name;
     }
-    EXPECT_THROW(writeCavePictures(lChannel(), (dir / "images").string(), 10), InputError);
+    EXPECT_THROW(writeCavePictures(makeCave(lChannel(), CaveExtent::kChannels), (dir / "images").string(), 10), InputError);
 }
 
 std::string fileBytes(const fs::path& p) {
@@ -246,9 +246,9 @@ std::string fileBytes(const fs::path& p) {
 TEST(CavePictures, SharedLevelSetWritesTheSameFiles) {
     const Domain d = lChannel();
     const fs::path a = freshDir("separate"), b = freshDir("shared");
-    const MeshStats sa = writeCaveMesh(d, a.string());
-    writeCavePictures(d, (a / "images").string(), 256);
-    const MeshStats sb = writeCaveMeshAndPictures(d, b.string(), (b / "images").string(), 256);
+    const MeshStats sa = writeCaveMesh(makeCave(d, CaveExtent::kChannels), a.string());
+    writeCavePictures(makeCave(d, CaveExtent::kChannels), (a / "images").string(), 256);
+    const MeshStats sb = writeCaveMeshAndPictures(makeCave(d, CaveExtent::kChannels), b.string(), (b / "images").string(), 256);
     EXPECT_EQ(sa.faces, sb.faces);
     EXPECT_DOUBLE_EQ(sa.volumeM3, sb.volumeM3);
     for (const char* name : {"cave.obj", "cave.ply", "images/plan.png", "images/perspective.png", "images/side_xz.png",
@@ -263,7 +263,7 @@ TEST(CavePictures, SectionDomainsRender) {
     for (int i = 2; i < 28; ++i) d.flags.at(i, 0, 6) |= kChannel;
     d.sourceVoxels = {{d.dims.index(1, 0, 6)}};
     d.sinkVoxels = {{d.dims.index(29, 0, 6)}};
-    const auto views = renderCaveViews(d, 400);
+    const auto views = renderCaveViews(makeCave(d, CaveExtent::kChannels), 400);
     for (const auto& v : views) EXPECT_GT(pixelVariance(v), 100.0);
 }
 

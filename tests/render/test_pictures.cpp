@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "render/colormap.h"
 #include "render/pictures.h"
+#include "sim/cave.h"
 #include "render/png_io.h"
 #include "render/view.h"
 
@@ -88,7 +89,7 @@ TEST(ZonesPicture, NoZonesStillGivesAPicture) {
 TEST(FieldPictures, SectionPressureHasTheColourOfItsValue) {
     const Domain d = twoZones({40, 1, 16});
     const int width = 640;
-    const Image img = pressurePicture(d, width);
+    const Image img = pressurePicture(d, caveMask(d, CaveExtent::kChannels), width);
     expectReadable(img, width);
     const Frame f = makeFrame(View::kSideXZ, d.dims, d.voxelSize, width, 2);
     // pressure = i on [0, 39]: linear colour bar from 0 to 39.
@@ -98,7 +99,7 @@ TEST(FieldPictures, SectionPressureHasTheColourOfItsValue) {
 TEST(FieldPictures, BlockPicturesHaveTwoPanelsAndLogFlow) {
     const Domain d = twoZones({30, 20, 6});
     const int width = 500;
-    const Image p = pressurePicture(d, width), fl = flowPicture(d, width);
+    const Image p = pressurePicture(d, caveMask(d, CaveExtent::kChannels), width), fl = flowPicture(d, caveMask(d, CaveExtent::kChannels), width);
     expectReadable(p, width);
     expectReadable(fl, width);
     const Frame plan = makeFrame(View::kPlan, d.dims, d.voxelSize, width, 2);
@@ -114,16 +115,16 @@ TEST(FieldPictures, WithoutStage2DataTheyStillDraw) {
     Domain d = twoZones({20, 1, 10});
     for (auto& v : d.pressure.data) v = 0.f;
     for (auto& v : d.flow.data) v = 0.f;
-    expectReadable(pressurePicture(d, 300), 300);
-    expectReadable(flowPicture(d, 300), 300);
+    expectReadable(pressurePicture(d, caveMask(d, CaveExtent::kChannels), 300), 300);
+    expectReadable(flowPicture(d, caveMask(d, CaveExtent::kChannels), 300), 300);
     d.pressure = Grid3<float>();  // absent grids read as zeros
-    expectReadable(pressurePicture(d, 300), 300);
+    expectReadable(pressurePicture(d, caveMask(d, CaveExtent::kChannels), 300), 300);
 }
 
 TEST(StateFrame, SectionStacksPorosityPressureAndFlow) {
     const Domain d = twoZones({40, 1, 16});
     const int width = 480;
-    const Image img = stateFrame(d, "iteration 7", width);
+    const Image img = stateFrame(d, caveMask(d, CaveExtent::kChannels), "iteration 7", width);
     const Frame f = makeFrame(View::kSideXZ, d.dims, d.voxelSize, width, 2);
     EXPECT_EQ(img.width, width);
     EXPECT_EQ(img.height, 3 * f.height);
@@ -134,7 +135,7 @@ TEST(StateFrame, SectionStacksPorosityPressureAndFlow) {
 
 TEST(StateFrame, BlockIsOnePlanPanel) {
     const Domain d = twoZones({30, 20, 6});
-    const Image img = stateFrame(d, "iteration 1", 400);
+    const Image img = stateFrame(d, caveMask(d, CaveExtent::kChannels), "iteration 1", 400);
     const Frame f = makeFrame(View::kPlan, d.dims, d.voxelSize, 400, 2);
     EXPECT_EQ(img.height, f.height);
     expectReadable(img, 400);
@@ -164,7 +165,7 @@ TEST(ComposeStrip, FramesSideBySideOrInRows) {
 TEST(Pictures, RejectBadWidths) {
     const Domain d = twoZones({8, 8, 4});
     EXPECT_THROW(zonesPicture(d, 10), InputError);
-    EXPECT_THROW(stateFrame(d, "x", 100000), InputError);
+    EXPECT_THROW(stateFrame(d, caveMask(d, CaveExtent::kChannels), "x", 100000), InputError);
 }
 
 TEST(Png, RoundTripIsExactAndLeavesNoTemporaryFile) {
@@ -193,7 +194,7 @@ TEST(Pictures, WrittenFilesHaveTheRequestedWidth) {
     std::filesystem::create_directories(dir);
     const Domain d = twoZones({16, 12, 4});
     writeZonesPicture(d, (dir / "zones.png").string(), 320);
-    writeFieldPictures(d, dir.string(), 320);
+    writeFieldPictures(d, caveMask(d, CaveExtent::kChannels), dir.string(), 320);
     for (const char* name : {"zones.png", "pressure.png", "flow.png"}) {
         const Image img = readPng((dir / name).string());
         EXPECT_EQ(img.width, 320) << name;

@@ -32,7 +32,7 @@ TEST(CaveMask, SourceInsideAPassageIsCaveSoNoSpeckOfRockRemains) {
     const std::size_t src = d.dims.index(4, 2, 2);
     d.flags[src] &= ~std::uint32_t(kChannel);  // sources are never eroded
     addSource(d, {src});
-    const auto m = caveMask(d);
+    const auto m = caveMask(d, CaveExtent::kChannels);
     EXPECT_EQ(m[src], 1);
     EXPECT_EQ(count(m), 9);
 }
@@ -44,7 +44,7 @@ TEST(CaveMask, OnlySourceVoxelsTouchingAPassageAreInlets) {
     addSource(d, {d.dims.index(0, 2, 2), d.dims.index(1, 2, 2), d.dims.index(2, 2, 2)});
     // A second source far from any passage (diagonal contact counts, this one has none).
     addSource(d, {d.dims.index(0, 0, 4)});
-    const auto m = caveMask(d);
+    const auto m = caveMask(d, CaveExtent::kChannels);
     EXPECT_EQ(m.at(2, 2, 2), 1);
     EXPECT_EQ(m.at(1, 2, 2), 0) << "a source box does not grow through itself";
     EXPECT_EQ(m.at(0, 2, 2), 0);
@@ -56,14 +56,14 @@ TEST(CaveMask, DiagonalContactMakesAnInlet) {
     Domain d = block();
     d.flags.at(5, 3, 3) |= kChannel;
     addSource(d, {d.dims.index(4, 2, 2)});  // corner neighbour of the channel voxel
-    EXPECT_EQ(caveMask(d).at(4, 2, 2), 1);
+    EXPECT_EQ(caveMask(d, CaveExtent::kChannels).at(4, 2, 2), 1);
 }
 
 TEST(CaveMask, SinksAreNeverCave) {
     Domain d = block();
     for (int i = 0; i < 9; ++i) d.flags.at(i, 2, 2) |= kChannel;
     addSink(d, {d.dims.index(8, 2, 2)});
-    const auto m = caveMask(d);
+    const auto m = caveMask(d, CaveExtent::kChannels);
     EXPECT_EQ(m.at(8, 2, 2), 0);
     EXPECT_EQ(count(m), 8);
 }
@@ -72,11 +72,11 @@ TEST(CaveMask, ProtochannelsStandInWhenThereIsNoChannel) {
     Domain d = block();
     for (int k = 1; k < 5; ++k) d.flags.at(4, 2, k) |= kProtochannel;
     addSource(d, {d.dims.index(4, 2, 0)});
-    auto m = caveMask(d);
+    auto m = caveMask(d, CaveExtent::kChannels);
     EXPECT_EQ(count(m), 4 + 1);  // the protochannel and its source
     // Once one voxel is channel, the protochannels are no longer the cave.
     d.flags.at(0, 0, 0) |= kChannel;
-    m = caveMask(d);
+    m = caveMask(d, CaveExtent::kChannels);
     EXPECT_EQ(count(m), 1);
     EXPECT_EQ(m.at(0, 0, 0), 1);
 }
@@ -88,9 +88,8 @@ TEST(CaveMask, WithProtochannelsTheStage1TreesAreSidePassages) {
     d.flags.at(0, 0, 0) |= kProtochannel;                              // an isolated tip
     addSink(d, {d.dims.index(8, 0, 0)});
     d.flags.at(8, 0, 0) |= kProtochannel;                              // a protochannel sink voxel
-    EXPECT_EQ(count(caveMask(d)), 9);
-    d.caveExtent = CaveExtent::kWithProtochannels;
-    const auto m = caveMask(d);
+    EXPECT_EQ(count(caveMask(d, CaveExtent::kChannels)), 9);
+    const auto m = caveMask(d, CaveExtent::kWithProtochannels);
     EXPECT_EQ(count(m), 9 + 2 + 1);
     EXPECT_EQ(m.at(4, 2, 4), 1);
     EXPECT_EQ(m.at(8, 0, 0), 0);

@@ -69,7 +69,7 @@ p_rate_channel = 0.001
 Domain prepared(const Scenario& s) {
     Rng rng(s.seed);
     Domain d = buildDomain(s, rng);
-    prepareStage2(d, s);
+    prepareStage2(d, s.stage2);
     return d;
 }
 
@@ -78,7 +78,7 @@ Domain prepared(const Scenario& s) {
 TEST(Stage2, WaterIsConserved) {
     const Scenario s = parseScenarioString(kTwoChannels, "two.toml");
     Domain d = prepared(s);
-    const Stage2Result r = runStage2(d, s);
+    const Stage2Result r = runStage2(d, s.stage2);
     EXPECT_LT(r.waterBalanceRelError, 1e-12);
     EXPECT_GT(r.totalInjected, 0);
     EXPECT_GT(r.totalDrained, 0);  // water reaches the sink
@@ -99,10 +99,10 @@ TEST(Stage2, PressureNeverRisesAndIncrementalEqualsFull) {
     Domain d = prepared(s);
     Grid3<float> previous = Grid3<float>(d.dims, std::numeric_limits<float>::infinity());
     int checked = 0;
-    runStage2(d, s, {}, [&](int, const Domain& dom) {
+    runStage2(d, s.stage2, {}, [&](int, const Domain& dom) {
         for (std::size_t v = 0; v < dom.pressure.size(); ++v) ASSERT_LE(dom.pressure[v], previous[v]);
         previous = dom.pressure;
-        const Grid3<double> full = solvePressureFull(dom, s);
+        const Grid3<double> full = solvePressureFull(dom, s.stage2);
         for (std::size_t v = 0; v < full.size(); ++v)
             ASSERT_NEAR(dom.pressure[v], full[v], 1e-5 * (1 + std::abs(full[v])));
         ++checked;
@@ -115,11 +115,11 @@ TEST(Stage2, SameResultWithOneAndTwoThreads) {
     Domain a = prepared(s), b = prepared(s);
     {
         tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-        runStage2(a, s);
+        runStage2(a, s.stage2);
     }
     {
         tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
-        runStage2(b, s);
+        runStage2(b, s.stage2);
     }
     EXPECT_EQ(a.porosity.data, b.porosity.data);
     EXPECT_EQ(a.water.data, b.water.data);
@@ -130,7 +130,7 @@ TEST(Stage2, SameResultWithOneAndTwoThreads) {
 TEST(Stage2, MirrorSymmetricScenarioGivesMirrorSymmetricCave) {
     const Scenario s = parseScenarioString(kSymmetric, "sym.toml");
     Domain d = prepared(s);
-    runStage2(d, s);
+    runStage2(d, s.stage2);
     const Dims& g = d.dims;
     long channels = 0;
     for (int k = 0; k < g.nz; ++k)
@@ -155,8 +155,8 @@ TEST(Stage2, OnlyTheRateRatioMatters) {
     b.stage2.pRateChannel *= 4;
     b.stage2.pressureScale *= 4;
     Domain da = prepared(a), db = prepared(b);
-    runStage2(da, a);
-    runStage2(db, b);
+    runStage2(da, a.stage2);
+    runStage2(db, b.stage2);
     EXPECT_EQ(da.flags.data, db.flags.data);
     EXPECT_EQ(da.porosity.data, db.porosity.data);
 }
@@ -164,7 +164,7 @@ TEST(Stage2, OnlyTheRateRatioMatters) {
 TEST(Stage2, ChannelsGrowFromProtochannelsTowardTheSink) {
     const Scenario s = parseScenarioString(kTwoChannels, "two.toml");
     Domain d = prepared(s);
-    const Stage2Result r = runStage2(d, s);
+    const Stage2Result r = runStage2(d, s.stage2);
     ASSERT_FALSE(r.history.empty());
     EXPECT_GT(r.history.back().channelVoxels, 0);
     // Erosion only raises porosity.
@@ -178,7 +178,7 @@ TEST(Stage2, InterimResetsStageOneErosionAndOpensSourcesAndSinks) {
     Domain d = buildDomain(s, rng);
     d.porosity.at(5, 0, 5) = 0.9f;  // stage-1 display erosion
     d.flags.at(5, 0, 5) |= kChannel;
-    prepareStage2(d, s);
+    prepareStage2(d, s.stage2);
     EXPECT_FLOAT_EQ(d.porosity.at(5, 0, 5), d.porosity0.at(5, 0, 5));
     EXPECT_FALSE(d.flags.at(5, 0, 5) & kChannel);
     // Protochannels are raised to protochannel_porosity, never lowered below their own porosity.

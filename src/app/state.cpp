@@ -1,57 +1,20 @@
-// `cavesim report DIR` (rebuild the report of a run from its files) and `cavesim reproduce`
-// (run the paper's figure scenarios and write docs/reproduction.md).
-#include <cerrno>
-#include <chrono>
+#include "app/state.h"
+
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <new>
-#include <sstream>
 #include <stdexcept>
 
-#include <unistd.h>
-
-#include <tbb/global_control.h>
-#include <tbb/info.h>
-
-#include "cli/commands.h"
-#include "cli/output_dir.h"
-#include "cli/pipeline.h"
-#include "cli/progress_bar.h"
-#include "cli/report.h"
 #include "core/error.h"
+#include "core/fnv.h"
 #include "mesh/vdb_io.h"
-#include "morpho/analysis.h"
-#include "sim/scenario_io.h"
+#include "sim/stage1.h"
 
 namespace fs = std::filesystem;
 
-namespace cavesim::cli {
+namespace cavesim::app {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-nlohmann::json readJsonIfPresent(const fs::path& path) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) return nlohmann::json::object();
-    if (!fs::is_regular_file(path, ec)) throw InputError(path.string() + ": not a regular file");
-    std::ifstream in(path);
-    if (!in) throw InputError(path.string() + ": cannot be read");
-    nlohmann::json j;
-    try {
-        // A report nests a few levels; ~100 000 would overflow the stack when written back.
-        j = nlohmann::json::parse(in, [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
-            if (depth > 64) throw InputError(path.string() + ": nested more than 64 levels deep: not a cavesim report");
-            return true;
-        });
-    } catch (const nlohmann::json::exception& e) {
-        throw InputError(path.string() + ": not valid JSON (" + e.what() + ")");
-    }
-    if (!j.is_object()) throw InputError(path.string() + ": not a cavesim report (a JSON object is expected)");
-    return j;
-}
 
 std::string shortNumber(double v) {
     char buf[32];
@@ -88,8 +51,57 @@ void checkGrid(const Grid3<T>& g, const std::string& vdb, const char* name, cons
                              std::to_string(v) + " (" + allowed + "): the file is damaged; rerun `cavesim run`");
 }
 
-/// A run's domain as it was written: grids from state.vdb, sources and sinks from the scenario.
-Domain loadRunDomain(const fs::path& dir, const Scenario& s, const nlohmann::json& report) {
+}  // namespace
+
+Grid3<float> recordedPorosity(const Domain& dom, const Scenario& s, StateMoment moment) {
+    if (moment == StateMoment::kAfterStage1 || !s.stage2.enabled)
+        return stage1DisplayPorosity(dom, s.stage1.protochannelPorosity);
+    return dom.porosity;
+}
+
+void writeState(const std::string& path, const Domain& dom, const Scenario& s, StateMoment moment) {
+    const bool stage2 = moment == StateMoment::kFinal && s.stage2.enabled;
+    const Grid3<float> porosity = recordedPorosity(dom, s, moment);
+    Grid3<std::int32_t> flags(dom.dims, 0);
+    for (std::size_t v = 0; v < flags.size(); ++v) flags[v] = dom.flags[v];
+    std::vector<mesh::NamedGrid> grids{
+        {"porosity", &porosity, nullptr, "porosity R in [0,1] (water capacity)"},
+        {"porosity0", &dom.porosity0, nullptr, "initial porosity"},
+        {"zone", nullptr, &dom.zone, "stage-1 pressure zone: source index, -1 none"},
+        {"flags", nullptr, &flags,
+         "bits: 1 source, 2 sink, 4 protochannel, 8 channel, 16 obstacle, 32 fracture, 64 rock.channel"},
+    };
+    if (stage2) {
+        grids.push_back({"pressure", &dom.pressure, nullptr, "stage-2 pressure"});
+        grids.push_back({"flow", &dom.flow, nullptr, "stage-2 flow f of the last iteration (Eq. 2)"});
+        grids.push_back({"water", &dom.water, nullptr, "stage-2 water contents"});
+    }
+    mesh::writeVdb(path, grids, dom.voxelSize);
+}
+
+nlohmann::json fileFingerprint(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw RuntimeError("cannot read " + path);
+    Fnv1a64 h;
+    std::uint64_t bytes = 0;
+    char buf[1 << 16];
+    while (in) {
+        in.read(buf, sizeof buf);
+        const std::streamsize n = in.gcount();
+        h.add(buf, std::size_t(n));
+        bytes += std::uint64_t(n);
+    }
+    return {{"bytes", bytes}, {"fnv1a64", h.hex()}};
+}
+
+nlohmann::json stateRecord(const std::string& path, const Scenario& s) {
+    nlohmann::json r = fileFingerprint(path);
+    r["grid"] = {s.size[0], s.size[1], s.size[2]};
+    r["voxel_size_m"] = s.voxelSize;
+    return r;
+}
+
+Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& report) {
     const std::string vdb = (dir / "state.vdb").string();
     // OpenVDB does not survive a damaged file: the run recorded the file's size, checksum and grid
     // in report.json and in the last line of scenario.toml; without a record the file is not read.
@@ -116,8 +128,8 @@ Domain loadRunDomain(const fs::path& dir, const Scenario& s, const nlohmann::jso
                          " x " + std::to_string(s.size[1]) + " x " + std::to_string(s.size[2]) + " voxels of " +
                          shortNumber(s.voxelSize) + " m, but the run's state.vdb holds " + then["grid"].dump() +
                          " of " + then["voxel_size_m"].dump() + " m: the scenario was edited; rerun `cavesim run`");
-    Rng rng(s.seed);
-    Domain dom = buildDomain(s, rng);
+    Domain dom = emptyDomain(Dims{s.size[0], s.size[1], s.size[2]}, s.voxelSize, 0.f);
+    placeTerminals(dom, s);
     try {
         dom.porosity = mesh::readVdbFloat(vdb, "porosity", dom.dims);
         dom.porosity0 = mesh::readVdbFloat(vdb, "porosity0", dom.dims);
@@ -152,49 +164,5 @@ Domain loadRunDomain(const fs::path& dir, const Scenario& s, const nlohmann::jso
     return dom;
 }
 
-}  // namespace
 
-int reportCommand(const std::string& dirArg) {
-    const fs::path dir(dirArg);
-    if (!fs::is_directory(dir))
-        throw InputError(dirArg + ": not a directory; give the output directory of a `cavesim run`");
-    for (const char* f : {"scenario.toml", "state.vdb"})
-        if (!fs::exists(dir / f))
-            throw InputError((dir / f).string() + ": missing; `cavesim report` needs the files a run writes");
-    const auto t0 = Clock::now();
-    const Scenario s = parseScenarioFile((dir / "scenario.toml").string());
-    nlohmann::json report = readJsonIfPresent(dir / "report.json");
-    // Everything this command rewrites must be a file (or absent), so it does not stop half-way.
-    for (const char* f : {"report.json", "report.md", "skeleton.json", "skeleton_nodes.dat", "skeleton_links.dat"}) {
-        std::error_code ec;
-        if (fs::exists(dir / f, ec) && !fs::is_regular_file(dir / f, ec))
-            throw InputError((dir / f).string() + ": not a regular file; `cavesim report` rewrites it");
-    }
-    if (::access(dir.c_str(), W_OK | X_OK) != 0)
-        throw InputError(dirArg + ": cannot write in it (" + std::strerror(errno) + ")");
-    const Domain dom = loadRunDomain(dir, s, report);
-
-    // The stage-2 connection iterations date the captures; they come from the run's report.
-    std::vector<std::optional<int>> connected;
-    if (report.contains("stage2") && report["stage2"].is_object() &&
-        report["stage2"].contains("source_connected_iteration")) {
-        for (const auto& v : report["stage2"]["source_connected_iteration"])
-            connected.push_back(v.is_number_integer() ? std::optional<int>(v.get<int>()) : std::nullopt);
-    }
-    const morpho::CaveAnalysis analysis = morpho::analyseCave(dom, connected);
-    morpho::writeSkeletonFiles(analysis.skeleton, dir.string(), dom.voxelSize, dom.dims);
-    const nlohmann::json a = analysisJson(analysis);
-    report["scenario"] = s.name;
-    report["grid"] = {s.size[0], s.size[1], s.size[2]};
-    report["voxel_size_m"] = s.voxelSize;
-    report["seed"] = s.seed;
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"}) report[k] = a[k];
-    if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
-    report["timing_s"]["report"] = std::chrono::duration<double>(Clock::now() - t0).count();
-    writeFileAtomic((dir / "report.json").string(), report.dump(2) + "\n");
-    writeFileAtomic((dir / "report.md").string(), buildReportMarkdown(s, report, dir.string()));
-    std::printf("%s: rebuilt report.json, report.md and the skeleton files\n", dir.string().c_str());
-    return 0;
-}
-
-}  // namespace cavesim::cli
+}  // namespace cavesim::app

@@ -8,17 +8,16 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "cli/commands.h"
-#include "cli/output_dir.h"
-#include "cli/pipeline.h"
-#include "cli/progress_bar.h"
-#include "cli/report.h"
+#include "app/commands.h"
+#include "app/output_dir.h"
+#include "app/pipeline.h"
+#include "app/report.h"
 #include "core/error.h"
 #include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
 
-namespace cavesim::cli {
+namespace cavesim::app {
 namespace {
 
 struct Figure {
@@ -80,7 +79,7 @@ const nlohmann::json& get(const nlohmann::json& j, std::initializer_list<const c
 
 }  // namespace
 
-int reproduceCommand(const ReproduceOptions& opt) {
+void reproduce(const ReproduceOptions& opt, const LogFn& log) {
     const fs::path scenarios(opt.scenarioDir);
     if (!fs::is_directory(scenarios))
         throw InputError(opt.scenarioDir + ": no such folder of scenarios (run from the repository root or give --scenarios)");
@@ -105,17 +104,30 @@ int reproduceCommand(const ReproduceOptions& opt) {
           "network counts: [network-definitions.md](network-definitions.md); choices our reading of the paper "
           "had to make: [model.md](model.md).\n\n";
     std::vector<std::pair<std::string, nlohmann::json>> reports;
+    // Table 4 both ways: the paper's Figures 10–12 show the protochannels beside the channels and
+    // do not say which of them its indices measure, so the caves are also measured with the
+    // protochannels as side passages (the same simulation, measured twice).
+    std::vector<std::pair<std::string, nlohmann::json>> withProto;
+    const auto say = [&log](const std::string& m) {
+        if (log) log(m);
+    };
 
     for (auto& [fig, s] : runs) {
-        ProgressBar bar(true);
         const fs::path out = fs::path(opt.outDir) / s.name;
         OutputDir dir(out, true);
         dir.open();
-        const PipelineResult res = runPipeline(s, threads, dir, bar);
+        PipelineOptions po;
+        po.threads = threads;
+        const bool paperCaveRun = s.name == "fig10" || s.name == "fig11" || s.name == "fig12";
+        if (paperCaveRun && s.output.cave == CaveExtent::kChannels) po.alsoMeasure = CaveExtent::kWithProtochannels;
+        const PipelineResult res = runPipeline(s, dir, po);
         dir.commit();
-        std::fprintf(stderr, "reproduce: %s in %.2f s\n", s.name.c_str(), res.totalSeconds);
+        char line[160];
+        std::snprintf(line, sizeof line, "reproduce: %s in %.2f s", s.name.c_str(), res.totalSeconds);
+        say(line);
         const nlohmann::json& r = res.report;
         reports.push_back({s.name, r});
+        if (!res.alsoMeasured.is_null()) withProto.push_back({s.name, res.alsoMeasured});
 
         md << "## " << fig->title << "\n\n**Paper.** " << fig->paper << "\n\n**Ours** (`scenarios/" << fig->scenario
            << ".toml`, " << s.size[0] << "×" << s.size[1] << "×" << s.size[2] << " voxels of " << s.voxelSize
@@ -143,26 +155,6 @@ int reproduceCommand(const ReproduceOptions& opt) {
         md << "\n";
     }
 
-    // Table 4 both ways: the paper's Figures 10–12 show the protochannels beside the channels and
-    // do not say which of them its indices measure, so the caves are also measured with the
-    // protochannels as side passages (the same simulation, re-run with `[output] cave`).
-    std::vector<std::pair<std::string, nlohmann::json>> withProto;
-    for (auto& [fig, s] : runs) {
-        const std::string name = s.name;
-        if (name != "fig10" && name != "fig11" && name != "fig12") continue;
-        Scenario v = s;
-        v.output.cave = "with_protochannels";
-        v.output.images = false;
-        v.output.mesh = false;
-        v.stage2.snapshots.clear();
-        ProgressBar bar(true);
-        OutputDir dir(fs::path(opt.outDir) / (name + "_with_protochannels"), true);
-        dir.open();
-        const PipelineResult res = runPipeline(v, threads, dir, bar);
-        dir.commit();
-        std::fprintf(stderr, "reproduce: %s with protochannels in %.2f s\n", name.c_str(), res.totalSeconds);
-        withProto.push_back({name, res.report});
-    }
     const char* keys[4] = {"network_density", "areal_coverage_pct", "porosity_pct", "mean_width_m"};
     const char* labels[4] = {"network density (m/m²)", "areal coverage (%)", "porosity (%)", "W (m)"};
     auto table4 = [&](const std::vector<std::pair<std::string, nlohmann::json>>& rs) {
@@ -224,8 +216,7 @@ int reproduceCommand(const ReproduceOptions& opt) {
            << " | " << p2 << " |\n";
     }
     writeFileAtomic(doc.string(), md.str());
-    std::printf("wrote %s and %zu run(s) under %s\n", doc.string().c_str(), reports.size(), opt.outDir.c_str());
-    return 0;
+    say("wrote " + doc.string() + " and " + std::to_string(reports.size()) + " run(s) under " + opt.outDir);
 }
 
-}  // namespace cavesim::cli
+}  // namespace cavesim::app

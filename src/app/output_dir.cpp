@@ -1,4 +1,4 @@
-#include "cli/output_dir.h"
+#include "app/output_dir.h"
 
 #include <cerrno>
 #include <chrono>
@@ -15,7 +15,7 @@
 
 namespace fs = std::filesystem;
 
-namespace cavesim::cli {
+namespace cavesim::app {
 
 namespace {
 
@@ -195,4 +195,4 @@ void writeTextFile(const fs::path& path, const std::string& text) {
     if (!out) throw RuntimeError("cannot write " + path.string());
 }
 
-}  // namespace cavesim::cli
+}  // namespace cavesim::app

@@ -1,4 +1,4 @@
-#include "cli/report.h"
+#include "app/report.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,13 +7,15 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "app/state.h"
 #include "core/fnv.h"
+#include "sim/scenario_io.h"
 #include "mesh/cave_mesh.h"
 #include "morpho/analysis.h"
 
 namespace fs = std::filesystem;
 
-namespace cavesim::cli {
+namespace cavesim::app {
 namespace {
 
 /// FNV-1a over the bytes of a grid: identical grids, identical checksums (determinism checks).
@@ -223,7 +225,7 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
     j["files"] = rec.files;
-    j["checksums"] = {{"porosity", checksum(dom.porosity)},
+    j["checksums"] = {{"porosity", checksum(recordedPorosity(dom, s, StateMoment::kFinal))},
                       {"pressure", checksum(dom.pressure)},
                       {"flow", checksum(dom.flow)},
                       {"zone", checksum(dom.zone)},
@@ -246,9 +248,9 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     md << "| rock | noise amplitude, scale | " << s.noise.amplitude << ", " << s.noise.scale << " |\n";
     md << "| stage 1 | enabled | " << (s.stage1.enabled ? "yes" : "no") << " |\n";
     if (s.stage1.enabled) {
-        md << "| stage 1 | protosinks | " << s.stage1.protosinks;
-        if (s.stage1.protosinks == "clustered") md << " (" << s.stage1.clusters << " clusters)";
-        md << " |\n| stage 1 | zone front speed | " << s.stage1.permeability << " |\n";
+        md << "| stage 1 | protosinks | " << choiceName(s.stage1.protosinks);
+        if (s.stage1.protosinks == ProtosinkMode::kClustered) md << " (" << s.stage1.clusters << " clusters)";
+        md << " |\n| stage 1 | zone front speed | " << choiceName(s.stage1.permeability) << " |\n";
     }
     md << "| stage 2 | enabled | " << (s.stage2.enabled ? "yes" : "no") << " |\n";
     if (s.stage2.enabled) {
@@ -258,7 +260,7 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
         md << "| stage 2 | channel threshold | " << s.stage2.channelThreshold << " |\n";
         md << "| stage 2 | protochannel, source porosity | " << s.stage2.protochannelPorosity << ", "
            << s.stage2.sourcePorosity << " |\n";
-        md << "| stage 2 | transport weight | " << s.stage2.weight << " |\n";
+        md << "| stage 2 | transport weight | " << choiceName(s.stage2.weight) << " |\n";
     }
 
     const PaperCave* paper = paperCave(s.name);
@@ -355,25 +357,10 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     return md.str();
 }
 
-nlohmann::json fileFingerprint(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw RuntimeError("cannot read " + path);
-    Fnv1a64 h;
-    std::uint64_t bytes = 0;
-    char buf[1 << 16];
-    while (in) {
-        in.read(buf, sizeof buf);
-        const std::streamsize n = in.gcount();
-        h.add(buf, std::size_t(n));
-        bytes += std::uint64_t(n);
-    }
-    return {{"bytes", bytes}, {"fnv1a64", h.hex()}};
-}
-
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir) {
     rec.json = buildReportJson(s, dom, rec);
     writeFileAtomic((fs::path(dir) / "report.json").string(), rec.json.dump(2) + "\n");
     writeFileAtomic((fs::path(dir) / "report.md").string(), buildReportMarkdown(s, rec.json, dir));
 }
 
-}  // namespace cavesim::cli
+}  // namespace cavesim::app

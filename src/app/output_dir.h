@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace cavesim::cli {
+namespace cavesim::app {
 
 class OutputDir {
 public:
@@ -44,4 +44,4 @@ private:
 /// Writes `text` to `path` (inside a staging directory, so no further atomicity is needed).
 void writeTextFile(const std::filesystem::path& path, const std::string& text);
 
-}  // namespace cavesim::cli
+}  // namespace cavesim::app

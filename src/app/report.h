@@ -7,7 +7,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/output_dir.h"
 #include "core/atomic_file.h"
 #include "sim/domain.h"
 #include "sim/scenario.h"
@@ -21,7 +20,7 @@ namespace cavesim::morpho {
 struct CaveAnalysis;
 }
 
-namespace cavesim::cli {
+namespace cavesim::app {
 
 struct Timing {
     double stage1 = 0, stage2 = 0, mesh = 0, report = 0, total = 0;
@@ -70,10 +69,7 @@ std::string paperIndexText(const PaperCave& paper, int row);
 /// A report value as text: integers as they are, reals to `digits` significant digits, null "–".
 std::string formatValue(const nlohmann::json& v, int digits = 3);
 
-/// Size and FNV-1a 64 checksum of a file's bytes, {"bytes": n, "fnv1a64": "hex"}: `cavesim report`
-/// checks state.vdb against it before handing the file to OpenVDB, which does not survive damage.
-/// @throw RuntimeError if the file cannot be read
-nlohmann::json fileFingerprint(const std::string& path);
 
 
-}  // namespace cavesim::cli
+
+}  // namespace cavesim::app

@@ -1,0 +1,64 @@
+/// @file commands.h
+/// @brief What each `cavesim` subcommand does, as library calls: `src/cli/main.cpp` parses the
+/// arguments, calls one of these with a progress and a log callback, prints what it returns and
+/// maps exceptions to exit codes (InputError → 2, anything else → 1).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "app/pipeline.h"
+#include "sim/options.h"
+#include "sim/scenario.h"
+
+namespace cavesim::app {
+
+struct RunRequest {
+    std::optional<std::string> scenarioPath;  ///< empty: the built-in default (fig10)
+    std::string outDir;                       ///< empty: out/<scenario name>
+    int threads = 0;                          ///< 0: all cores
+    std::optional<std::string> seed;          ///< overrides the scenario's seed, as typed
+    bool force = false;                       ///< replace a non-empty output directory
+    std::optional<MeshStyle> meshStyle;       ///< overrides the scenario's mesh style
+};
+
+struct RunOutcome {
+    std::filesystem::path out;  ///< the output directory written
+    double seconds = 0;
+    std::optional<int> breakthroughIteration;
+};
+
+/// The scenario a run request asks for: parsed (or the default), seed and mesh style overridden,
+/// validated.
+/// @throw InputError on a bad scenario or seed
+Scenario requestedScenario(const RunRequest& request);
+
+/// `--seed TEXT`: digits only (no sign, no wrap-around), at most 2^63 − 1, leading zeros allowed.
+/// @throw InputError naming the value and what is allowed
+std::uint64_t parseSeed(const std::string& text);
+
+/// `cavesim run`: the whole run into an output directory that appears complete or not at all.
+/// `callbacks.threads` is ignored (the request's thread count is used and recorded).
+RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbacks);
+
+/// `cavesim validate`: the one-line summary of a valid scenario file.
+/// @throw InputError when the file is not a valid scenario
+std::string validateSummary(const std::string& path);
+
+/// `cavesim report DIR`: rebuilds report.json, report.md and the skeleton files of a run from its
+/// files; returns a one-line message.
+/// @throw InputError when the folder is not an intact run folder (nothing is rewritten then)
+std::string rebuildReport(const std::string& dir);
+
+struct ReproduceOptions {
+    std::string scenarioDir = "scenarios";
+    std::string outDir = "out/reproduce";
+    std::string docPath = "docs/reproduction.md";
+    int threads = 0;  ///< 0: all cores
+};
+
+/// `cavesim reproduce`: runs the paper's figure scenarios and writes the reproduction document.
+void reproduce(const ReproduceOptions& options, const LogFn& log);
+
+}  // namespace cavesim::app

@@ -1,0 +1,149 @@
+#include "app/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "app/report.h"
+#include "app/state.h"
+#include "mesh/cave_mesh.h"
+#include "mesh/cave_pictures.h"
+#include "morpho/analysis.h"
+#include "render/pictures.h"
+#include "render/png_io.h"
+#include "sim/cave.h"
+#include "sim/domain.h"
+#include "sim/scenario_io.h"
+#include "sim/stage1.h"
+#include "sim/stage2.h"
+
+namespace cavesim::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void say(const LogFn& log, const std::string& message) {
+    if (log) log(message);
+}
+
+/// Stage 1, with its limits reported against the scenario: file, line of the source, the key.
+Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& progress) {
+    try {
+        return runStage1(dom, s.stage1, rng, progress);
+    } catch (const Stage1LimitError& e) {
+        const int line = e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
+        std::string where = s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
+        if (e.source >= 0) {
+            where += ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) +
+                     "' = " + std::to_string(s.stage1.maxGraphVoxels);
+        }
+        throw InputError(where + ": " + e.what());
+    }
+}
+
+}  // namespace
+
+PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {
+    const auto t0 = Clock::now();
+    RunRecord rec;
+    rec.threads = options.threads;
+    const ProgressFn& progress = options.progress;
+    const int width = s.output.imageWidth;
+
+    Rng rng(s.seed);
+    Domain dom = buildDomain(s, rng);
+
+    if (s.stage1.enabled) {
+        const auto t1 = Clock::now();
+        rec.stage1 = stage1(dom, s, rng, progress);
+        rec.timing.stage1 = since(t1);
+        writeState(dir.file("stage1.vdb").string(), dom, s, StateMoment::kAfterStage1);
+        if (s.output.images) render::writeZonesPicture(dom, dir.file("images/zones.png").string(), width);
+        say(options.log, "stage 1: " + std::to_string(rec.stage1->zones) + " zone(s), " +
+                             std::to_string(rec.stage1->protochannelVoxels) + " protochannel voxels in " +
+                             std::to_string(rec.timing.stage1).substr(0, 5) + " s");
+    }
+    if (s.stage2.enabled) {
+        const auto t2 = Clock::now();
+        prepareStage2(dom, s.stage2);
+        // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
+        // reduced as it is taken, so the frames kept for the strip stay small at any image width.
+        constexpr int kPerRow = 6, kStripWidth = 8192;
+        const int nFrames = int(s.stage2.snapshots.size());
+        const int cols = std::clamp(nFrames, 1, kPerRow);
+        const int reduce = std::max(1, (width * cols + kStripWidth - 1) / kStripWidth);
+        std::vector<render::Image> frames;
+        SnapshotFn snap;
+        if (s.output.images && nFrames > 0) {
+            snap = [&](int it, const Domain& d) {
+                char name[64];
+                std::snprintf(name, sizeof name, "images/iter_%04d.png", it);
+                render::Image frame =
+                    render::stateFrame(d, caveMask(d, s.output.cave), "iteration " + std::to_string(it), width);
+                render::writePng(dir.file(name).string(), frame);
+                frames.push_back(render::downsample(frame, reduce));
+            };
+        }
+        rec.stage2 = runStage2(dom, s.stage2, progress, snap);
+        rec.timing.stage2 = since(t2);
+        if (frames.size() > 1)
+            render::writePng(dir.file("images/sequence.png").string(),
+                             render::composeStrip(frames, (int(frames.size()) + kPerRow - 1) / kPerRow));
+        const auto& r = *rec.stage2;
+        say(options.log, "stage 2: " + std::to_string(r.iterations) + " iterations, breakthrough " +
+                             (r.breakthroughIteration ? "at iteration " + std::to_string(*r.breakthroughIteration)
+                                                      : std::string("none")) +
+                             ", " + std::to_string(r.history.empty() ? 0 : r.history.back().sourcesConnected) +
+                             " of " + std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
+                             std::to_string(rec.timing.stage2).substr(0, 5) + " s");
+    }
+    const std::string statePath = dir.file("state.vdb").string();
+    writeState(statePath, dom, s, StateMoment::kFinal);
+    // What `cavesim report` checks before it trusts the file: its bytes and the grid it holds.
+    rec.files["state.vdb"] = stateRecord(statePath, s);
+
+    // The cave, once: every output below describes these voxels.
+    const Cave cave = makeCave(dom, s.output.cave);
+
+    const auto tm = Clock::now();
+    mesh::MeshOptions mo;
+    mo.style = s.output.meshStyle;
+    const std::string imagesDir = dir.file("images").string();
+    if (s.output.mesh && s.output.images) {
+        rec.mesh = meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo));
+    } else if (s.output.mesh) {
+        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo));
+    } else if (s.output.images) {
+        mesh::writeCavePictures(cave, imagesDir, width);
+    }
+    if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
+    rec.timing.mesh = since(tm);
+
+    const auto tr = Clock::now();
+    const std::vector<std::optional<int>> connected =
+        rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
+    const Grid3<float>* pressure = s.stage2.enabled ? &dom.pressure : nullptr;
+    const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, pressure, connected);
+    morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
+    rec.analysis = analysisJson(analysis);
+    rec.timing.report = since(tr);
+    rec.timing.total = since(t0);
+    writeReport(s, dom, rec, dir.file("").string());
+    // The effective scenario also records the state.vdb it produced (a comment, ignored by the
+    // parser), so `cavesim report` can check the file even when report.json is gone.
+    writeTextFile(dir.file("scenario.toml"),
+                  scenarioToToml(s) + "# state.vdb: " + rec.files["state.vdb"].dump() + "\n");
+
+    PipelineResult out;
+    if (options.alsoMeasure) {
+        const Cave other = makeCave(dom, *options.alsoMeasure);
+        out.alsoMeasured = analysisJson(morpho::analyseCave(other, pressure, connected));
+    }
+    out.totalSeconds = since(t0);
+    if (rec.stage2) out.breakthroughIteration = rec.stage2->breakthroughIteration;
+    out.report = rec.json;
+    return out;
+}
+
+}  // namespace cavesim::app

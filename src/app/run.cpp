@@ -1,0 +1,70 @@
+// `cavesim run` and `cavesim validate`: from a scenario file to a complete output directory.
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "app/commands.h"
+#include "app/output_dir.h"
+#include "core/error.h"
+#include "sim/scenario_io.h"
+
+namespace fs = std::filesystem;
+
+namespace cavesim::app {
+
+std::string validateSummary(const std::string& path) {
+    const Scenario s = parseScenarioFile(path);
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s: ok: scenario '%s', grid %d x %d x %d (%.3g m voxels), %zu source(s), %zu sink(s), stage 1 %s, "
+                  "stage 2 %s",
+                  path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize, s.sources.size(),
+                  s.sinks.size(), s.stage1.enabled ? "on" : "off",
+                  s.stage2.enabled ? (std::to_string(s.stage2.iterations) + " iterations").c_str() : "off");
+    return buf;
+}
+
+std::uint64_t parseSeed(const std::string& text) {
+    // The effective scenario.toml must hold the seed and reproduce the run.
+    const std::string digits =
+        text.size() > 1 ? text.substr(std::min(text.find_first_not_of('0'), text.size() - 1)) : text;
+    const std::string allowed =
+        ": must be a whole number in [0, " + std::to_string(std::numeric_limits<std::int64_t>::max()) + "]";
+    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || digits.size() > 19)
+        throw InputError("--seed " + text + allowed);
+    const unsigned long long v = std::stoull(digits);
+    if (v > std::uint64_t(std::numeric_limits<std::int64_t>::max())) throw InputError("--seed " + text + allowed);
+    return v;
+}
+
+Scenario requestedScenario(const RunRequest& request) {
+    Scenario s = request.scenarioPath ? parseScenarioFile(*request.scenarioPath) : defaultScenario();
+    if (request.seed) s.seed = parseSeed(*request.seed);
+    if (request.meshStyle) s.output.meshStyle = *request.meshStyle;
+    validateScenario(s);
+    return s;
+}
+
+RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbacks) {
+    const Scenario s = requestedScenario(request);
+    const fs::path out = request.outDir.empty() ? fs::path("out") / s.name : fs::path(request.outDir);
+    OutputDir dir(out, request.force);  // refuses a non-empty directory before any work
+
+    const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    PipelineOptions options = callbacks;
+    options.threads = threads;
+    if (options.log)
+        options.log("scenario '" + s.name + "' (" + s.path + "), grid " + std::to_string(s.size[0]) + "x" +
+                    std::to_string(s.size[1]) + "x" + std::to_string(s.size[2]) + ", seed " + std::to_string(s.seed) +
+                    ", " + std::to_string(threads) + " thread(s)");
+    dir.open();
+    const PipelineResult result = runPipeline(s, dir, options);
+    dir.commit();
+    return RunOutcome{out, result.totalSeconds, result.breakthroughIteration};
+}
+
+}  // namespace cavesim::app

@@ -1,0 +1,109 @@
+/// @file options.h
+/// @brief The options of each stage of a run (paper §3.1 stage 1, §3.2 stage 2) and of its
+/// outputs: one plain struct per algorithm, choices as `enum class`.
+///
+/// A stage takes its own options struct plus explicit inputs (the domain's fields and terminals,
+/// the `Rng`), never the whole scenario. Every field is one scenario key; the key, its type, default,
+/// unit, range and description are declared once, in the parameter registry (src/sim/scenario_io.cpp),
+/// from which the parser, the effective-scenario writer, the report's parameter table and
+/// docs/scenario-format.md are all made. The defaults here are the registry's defaults.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace cavesim {
+
+using Vec3d = std::array<double, 3>;
+
+/// How the protosinks of a stage-1 zone are chosen (stage1.h, step 2).
+enum class ProtosinkMode : std::uint8_t {
+    kBoundary,   ///< every voxel of the zone's boundary (isotropic)
+    kClustered,  ///< only boundary voxels near a few cluster centres (seeded, or the aim points)
+};
+
+/// Speed rule of the stage-1 zone fronts (stage1.h, step 1).
+enum class ZoneSpeed : std::uint8_t {
+    kUniform,   ///< speed p_i everywhere: the multiplicatively weighted Voronoi division
+    kPorosity,  ///< speed p_i · R(x)/R̄: fronts hurry along fractures, crawl through obstacles
+};
+
+/// A face of the grid, in the order −x, +x, −y, +y, −z, +z.
+enum class GridFace : std::uint8_t { kMinusX, kPlusX, kMinusY, kPlusY, kMinusZ, kPlusZ };
+
+/// Stage-2 transport weight of a lower-pressure neighbour (Listing 1).
+enum class TransportWeight : std::uint8_t {
+    kProportional,  ///< ΔP / distance
+    kUniform,       ///< 1
+};
+
+/// Flow blending rule of Eq. 2.
+enum class FlowBlending : std::uint8_t {
+    kMax,    ///< f_a = the largest f_c of the downhill neighbours
+    kSplit,  ///< each voxel's f_c split equally over its uphill neighbours
+};
+
+/// Which voxels make up the cave (mesh, pictures, report).
+enum class CaveExtent : std::uint8_t {
+    kChannels,           ///< the stage-2 channels (protochannels only when there are none)
+    kWithProtochannels,  ///< the channels and the stage-1 protochannels, as side passages
+};
+
+/// The cave mesh written besides the smooth one.
+enum class MeshStyle : std::uint8_t {
+    kSmooth,  ///< cave.obj, cave.ply: the smooth closed mesh
+    kVoxel,   ///< also cave_voxels.obj: the faces between cave and rock voxels
+};
+
+/// Stage 1 (stage1.h): pressure zones, flow networks, protochannels.
+struct Stage1Options {
+    bool enabled = true;
+    ProtosinkMode protosinks = ProtosinkMode::kBoundary;
+    int clusters = 3;                ///< clusters when clustered, [1, 64]
+    double clusterRadius = 2.0;      ///< voxels, radius of one protosink cluster, [0, 1e6]
+    std::vector<Vec3d> aim;          ///< voxels: cluster centres nearest these points (optional)
+    ZoneSpeed permeability = ZoneSpeed::kPorosity;
+    double protochannelPorosity = 0.35;  ///< porosity shown along protochannels after stage 1, [0, 1]
+    double capacityExponent = 1.0;       ///< edge capacity = min(porosity)^exponent, (0, 8]
+    long maxGraphVoxels = 4000000;       ///< zones larger than this are refused (memory), [1, 1e9]
+    /// Grid faces that count as zone boundary (protosinks there), each at most once, in the order
+    /// given; empty = only the boundaries between zones. Default: all but the top (+z), the
+    /// recharge side from which the sources are fed.
+    std::vector<GridFace> boundaryFaces{GridFace::kMinusX, GridFace::kPlusX, GridFace::kMinusY, GridFace::kPlusY,
+                                        GridFace::kMinusZ};
+    double protosinkShare = 0.5;   ///< total protosink drain / source capacity, (0, 1]
+    double branchFlow = 0.02;      ///< least fraction of a zone's flow through a protochannel voxel, [0, 1]
+    double resistanceNoise = 0.5;  ///< relative random variation of link resistance, [0, 1]
+};
+
+/// Stage 2 (stage2.h): pressure front, water transport, blending, erosion.
+struct Stage2Options {
+    bool enabled = true;
+    int iterations = 240;          ///< [0, 1000000]
+    double pRate = 0.50;           ///< pressure rise per voxel of rock, (0, 1e6]
+    double pRateChannel = 0.001;   ///< pressure rise per voxel of channel, (0, pRate]
+    double w0 = 0.15;              ///< erosion factor (Eq. 1), [0, 10]
+    double wa = 0.25;              ///< blending factor (Eq. 2), [0, 100]
+    double m = 1.0;                ///< erosion exponent (Eq. 1), (0, 4]
+    /// Stage-2 pressure of a source = its `pressure` × this; 0 = automatic:
+    /// 2 · pRate · (nx + ny + nz), well above anything the front reaches. [0, 1e9]
+    double pressureScale = 0.0;
+    double channelThreshold = 0.5;      ///< porosity at which an eroded voxel becomes channel, (0, 1]
+    double protochannelPorosity = 0.25; ///< porosity of protochannel voxels at the interim step, [0, 1]
+    double sourcePorosity = 0.1;        ///< porosity (= water injected per iteration at most) of sources, (0, 1]
+    TransportWeight weight = TransportWeight::kProportional;
+    FlowBlending blending = FlowBlending::kMax;
+    std::vector<int> snapshots;  ///< iterations at which pictures are taken, at most 32
+};
+
+/// What a run writes besides the grids.
+struct OutputOptions {
+    MeshStyle meshStyle = MeshStyle::kSmooth;
+    int imageWidth = 1024;  ///< pixels, [256, 8192]
+    bool images = true;
+    bool mesh = true;
+    CaveExtent cave = CaveExtent::kChannels;
+};
+
+}  // namespace cavesim
