@@ -4,20 +4,21 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <tuple>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "fastmarch/fast_marching.h"
+#include "sim/stage2_steps.h"
 
 namespace cavesim {
+namespace stage2 {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 constexpr std::uint8_t kOpen = kSource | kSink;
+constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
 
 /// Contents below this (porosity units, i.e. a 10⁻⁹ part of a voxel) stay where they are: a film
 /// too thin to flow. Listing 1 moves all of a voxel's water every iteration, so water spreads
@@ -25,38 +26,24 @@ constexpr std::uint8_t kOpen = kSource | kSink;
 /// by less than w0 · 10⁻⁹ per iteration and halves the work of a typical run. Water is still
 /// conserved exactly (the film is stored, and counted).
 constexpr double kMinFlowingWater = 1e-9;
-constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
 
-/// The 26 neighbour directions in "paired" order: groups (dj, dk) in a fixed order, and in each
-/// group −x, +x, then x = 0 (absent for the centre group). Every sum over neighbours adds the −x
-/// and +x terms first (a + b == b + a exactly), so an x-mirrored state gives x-mirrored sums bit
-/// for bit.
-struct Slot {
-    int di, dj, dk;
-    double invLength;  ///< 1 / |offset|
-    int opposite;      ///< slot of the reverse direction
-};
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-struct SlotTable {
+std::array<Slot, 26> makeSlots() {
     std::array<Slot, 26> slot{};
-    SlotTable() {
-        int c = 0;
-        for (int dk = -1; dk <= 1; ++dk)
-            for (int dj = -1; dj <= 1; ++dj)
-                for (int di : {-1, 1, 0}) {
-                    if (di == 0 && dj == 0 && dk == 0) continue;
-                    slot[std::size_t(c++)] = Slot{di, dj, dk, 1.0 / std::sqrt(double(di * di + dj * dj + dk * dk)), -1};
-                }
-        for (auto& a : slot)
-            for (int b = 0; b < 26; ++b)
-                if (slot[std::size_t(b)].di == -a.di && slot[std::size_t(b)].dj == -a.dj && slot[std::size_t(b)].dk == -a.dk)
-                    a.opposite = b;
-    }
-};
-
-const SlotTable& slots() {
-    static const SlotTable t;
-    return t;
+    int c = 0;
+    for (int dk = -1; dk <= 1; ++dk)
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di : {-1, 1, 0}) {
+                if (di == 0 && dj == 0 && dk == 0) continue;
+                slot[std::size_t(c++)] = Slot{di, dj, dk, 1.0 / std::sqrt(double(di * di + dj * dj + dk * dk)), -1};
+            }
+    for (auto& a : slot)
+        for (int b = 0; b < 26; ++b)
+            if (slot[std::size_t(b)].di == -a.di && slot[std::size_t(b)].dj == -a.dj && slot[std::size_t(b)].dk == -a.dk)
+                a.opposite = b;
+    return slot;
 }
 
 /// One row (j, k) of the grid with the linear index of the start of each of its 9 neighbour rows
@@ -128,13 +115,6 @@ void forEachRow(const Dims& d, Body&& body) {
     });
 }
 
-Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
-    Grid3<float> rate(dom.dims, float(g.pRate));
-    for (std::size_t v = 0; v < rate.size(); ++v)
-        if (dom.flags[v] & kLowRate) rate[v] = float(g.pRateChannel);
-    return rate;
-}
-
 std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
     std::vector<fastmarch::Seed> seeds;
     for (const auto& sink : dom.sinkVoxels)
@@ -143,7 +123,7 @@ std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
 }
 
 /// Sources joined to a sink through channel voxels (26-connected through kChannel | kSource | kSink).
-std::vector<bool> connectedSources(const Domain& dom) {
+std::vector<bool> connectedSourcesImpl(const Domain& dom) {
     const Dims& d = dom.dims;
     std::vector<std::uint8_t> seen(d.count(), 0);
     std::deque<std::size_t> queue;
@@ -177,6 +157,255 @@ std::vector<bool> connectedSources(const Domain& dom) {
 }
 
 }  // namespace
+
+const std::array<Slot, 26>& slots() {
+    static const std::array<Slot, 26> t = makeSlots();
+    return t;
+}
+
+Stage2State::Stage2State(const Dims& d)
+    : water(d.count(), 0.0),
+      incoming(d.count(), 0.0),
+      accept(d.count(), 0.0),
+      fc(d.count(), 0.0),
+      fa(d.count(), 0.0),
+      upShare(d.count(), 0.0),
+      offerStore(26 * d.count(), 0.0),
+      hadOffers(d.count(), 0),
+      wetRow(std::size_t(d.ny) * std::size_t(d.nz), 0),
+      offerRow(std::size_t(d.ny) * std::size_t(d.nz), 0),
+      flowRow(std::size_t(d.ny) * std::size_t(d.nz), 0) {}
+
+Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
+    Grid3<float> rate(dom.dims, float(g.pRate));
+    for (std::size_t v = 0; v < rate.size(); ++v)
+        if (dom.flags[v] & kLowRate) rate[v] = float(g.pRateChannel);
+    return rate;
+}
+
+std::vector<bool> connectedSources(const Domain& dom) { return connectedSourcesImpl(dom); }
+
+std::vector<Refill> refillLevels(const Domain& dom) {
+    // The strongest source refills to full capacity, a weaker one in proportion to its pressure.
+    double pmax = 0;
+    for (double p : dom.sourcePressure) pmax = std::max(pmax, p);
+    std::vector<Refill> refill;
+    for (std::size_t si = 0; si < dom.sourceVoxels.size(); ++si)
+        for (std::size_t v : dom.sourceVoxels[si]) refill.push_back({v, dom.sourcePressure[si] / pmax});
+    return refill;
+}
+
+double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage2State& st) {
+    double injected = 0;
+    for (const auto& [v, level] : levels) {
+        const double target = level * dom.porosity[v];
+        if (st.water[v] < target) {
+            injected += target - st.water[v];
+            st.water[v] = target;
+        }
+        if (st.water[v] > 0) st.wetRow[v / std::size_t(dom.dims.nx)] = 1;
+    }
+    return injected;
+}
+
+void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight weight, Stage2State& st) {
+    const bool proportional = weight == TransportWeight::kProportional;
+    std::array<double*, 26> offer{};
+    std::array<double, 26> invLength{};
+    for (int sl = 0; sl < 26; ++sl) {
+        offer[std::size_t(sl)] = st.offer(sl);
+        invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    }
+    const std::vector<double>& water = st.water;
+    // Rows far from any water are skipped: they neither offer nor receive.
+    forEachRow(dom.dims, [&](const Row& row) {
+        if (!st.wetRow[row.index] && !st.offerRow[row.index]) return;
+        bool any = false;
+        for (int i = 0; i < row.nx; ++i) {
+            const std::size_t v = row.first + std::size_t(i);
+            const double w = water[v];
+            if (w < kMinFlowingWater || (dom.flags[v] & kSink)) {
+                if (st.hadOffers[v]) {
+                    for (double* o : offer) o[v] = 0;
+                    st.hadOffers[v] = 0;
+                }
+                continue;
+            }
+            // Participants (Listing 1, lines 1–4) and their weights, gathered once.
+            std::array<double, 26> num{}, freeCap{};
+            const double pv = P[v];
+            const double norm = pairedSum(row, i, [&](int sl, std::size_t u) {
+                const double pu = P[u];
+                if (!(pu < pv)) return 0.0;
+                const double fr = double(dom.porosity[u]) - water[u];
+                if (!(fr > 0)) return 0.0;
+                const double x = proportional ? (pv - pu) * invLength[std::size_t(sl)] : 1.0;
+                num[std::size_t(sl)] = x;
+                freeCap[std::size_t(sl)] = fr;
+                return x;
+            });
+            st.hadOffers[v] = 1;
+            any = true;
+            if (!(norm > 0)) {
+                for (double* o : offer) o[v] = 0;
+                continue;
+            }
+            // Shares weight · free capacity; their total, in the same paired order.
+            std::array<double, 26> share{};
+            for (std::size_t sl = 0; sl < 26; ++sl) share[sl] = num[sl] != 0 ? (num[sl] / norm) * freeCap[sl] : 0.0;
+            const double total = pairedSlotSum(share);
+            const double scale = total > w ? w / total : 1.0;  // never more in total than the contents
+            for (std::size_t sl = 0; sl < 26; ++sl) offer[sl][v] = share[sl] * scale;
+        }
+        st.offerRow[row.index] = any ? 1 : 0;
+    });
+}
+
+void computeAcceptance(const Domain& dom, Stage2State& st) {
+    std::array<const double*, 26> offer{};
+    std::array<int, 26> opposite{};
+    for (int sl = 0; sl < 26; ++sl) {
+        offer[std::size_t(sl)] = st.offer(sl);
+        opposite[std::size_t(sl)] = slots()[std::size_t(sl)].opposite;
+    }
+    forEachRow(dom.dims, [&](const Row& row) {
+        if (!row.anyAround(st.offerRow)) {
+            std::fill_n(st.incoming.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
+            std::fill_n(st.accept.begin() + std::ptrdiff_t(row.first), row.nx, 1.0);
+            return;
+        }
+        for (int i = 0; i < row.nx; ++i) {
+            const std::size_t u = row.first + std::size_t(i);
+            // The offer reaching u from its neighbour v in direction s was made by v in the opposite direction.
+            const double in =
+                pairedSum(row, i, [&](int sl, std::size_t v) { return offer[std::size_t(opposite[std::size_t(sl)])][v]; });
+            st.incoming[u] = in;
+            const double freeCap = (dom.flags[u] & kSink) ? in : double(dom.porosity[u]) - st.water[u];
+            st.accept[u] = in > freeCap ? std::max(0.0, freeCap) / in : 1.0;
+        }
+    });
+}
+
+std::pair<double, double> moveWater(const Domain& dom, Stage2State& st) {
+    std::array<const double*, 26> offer{};
+    for (int sl = 0; sl < 26; ++sl) offer[std::size_t(sl)] = st.offer(sl);
+    forEachRow(dom.dims, [&](const Row& row) {
+        bool any = false;
+        for (int i = 0; i < row.nx; ++i) {
+            const std::size_t v = row.first + std::size_t(i);
+            st.fc[v] = st.offerRow[row.index] && st.hadOffers[v]
+                           ? pairedSum(row, i, [&](int sl, std::size_t u) { return offer[std::size_t(sl)][v] * st.accept[u]; })
+                           : 0.0;
+            any = any || st.fc[v] > 0;
+        }
+        st.flowRow[row.index] = any ? 1 : 0;
+    });
+    double drained = 0, moved = 0;
+    std::fill(st.wetRow.begin(), st.wetRow.end(), 0);
+    const std::size_t n = st.water.size();
+    for (std::size_t v = 0; v < n; ++v) {
+        st.water[v] += st.accept[v] * st.incoming[v] - st.fc[v];
+        moved += st.fc[v];
+        if (dom.flags[v] & kSink) {
+            drained += st.water[v];
+            st.water[v] = 0;
+        }
+        if (st.water[v] > 0) st.wetRow[v / std::size_t(dom.dims.nx)] = 1;
+    }
+    return {moved, drained};
+}
+
+void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending, Stage2State& st) {
+    const bool split = blending == FlowBlending::kSplit;
+    if (split) forEachRow(dom.dims, [&](const Row& row) {
+        for (int i = 0; i < row.nx; ++i) {
+            const std::size_t v = row.first + std::size_t(i);
+            if (st.fc[v] == 0) {
+                st.upShare[v] = 0;
+                continue;
+            }
+            const double pv = P[v];
+            const double up = pairedSum(row, i, [&](int, std::size_t u) { return P[u] > pv ? 1.0 : 0.0; });
+            st.upShare[v] = up > 0 ? st.fc[v] / up : 0.0;
+        }
+    });
+    forEachRow(dom.dims, [&](const Row& row) {
+        if (!row.anyAround(st.flowRow)) {
+            std::fill_n(st.fa.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
+            return;
+        }
+        for (int i = 0; i < row.nx; ++i) {
+            const std::size_t v = row.first + std::size_t(i);
+            const double pv = P[v];
+            if (split) {
+                st.fa[v] = pairedSum(row, i, [&](int, std::size_t u) { return P[u] < pv ? st.upShare[u] : 0.0; });
+            } else {
+                double strongest = 0;  // max is order-free: mirror symmetry and determinism hold
+                pairedSum(row, i, [&](int, std::size_t u) {
+                    if (P[u] < pv) strongest = std::max(strongest, st.fc[u]);
+                    return 0.0;
+                });
+                st.fa[v] = strongest;
+            }
+        }
+    });
+}
+
+double erode(Domain& dom, const Stage2Options& g, const Stage2State& st, Grid3<float>& rate,
+             std::vector<std::size_t>& newChannel) {
+    double eroded = 0;
+    const float threshold = float(g.channelThreshold);
+    const std::size_t n = dom.dims.count();
+    for (std::size_t v = 0; v < n; ++v) {
+        std::uint8_t& f = dom.flags[v];
+        if (f & kOpen) continue;
+        const double flow = g.wa * st.fa[v] + st.fc[v];
+        if (flow > 0) {
+            const float R = dom.porosity[v];
+            const double dR = std::min(g.w0 * (g.m == 1.0 ? flow : std::pow(flow, g.m)), 1.0 - double(R));
+            if (dR > 0) {
+                dom.porosity[v] = std::min(1.f, float(double(R) + dR));
+                eroded += double(dom.porosity[v]) - double(R);
+            }
+        }
+        if (!(f & kChannel) && dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v]) {
+            f |= kChannel;
+            if (rate[v] > float(g.pRateChannel)) {
+                rate[v] = float(g.pRateChannel);
+                newChannel.push_back(v);
+            }
+        }
+        dom.flow[v] = float(flow);
+    }
+    return eroded;
+}
+
+std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>& rate,
+                           const std::vector<std::size_t>& newChannel) {
+    return newChannel.empty() ? 0 : pressure.decrease(rate, newChannel);
+}
+
+std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& st, int iteration) {
+    double stored = 0;
+    long channels = 0;
+    const std::size_t n = st.water.size();
+    for (std::size_t v = 0; v < n; ++v) {
+        stored += st.water[v];
+        if (!std::isfinite(st.water[v])) {
+            const Index3 p = dom.dims.coord(v);
+            throw RuntimeError("stage 2, iteration " + std::to_string(iteration) + ": the water of voxel (" +
+                               std::to_string(p.i) + ", " + std::to_string(p.j) + ", " + std::to_string(p.k) +
+                               ") became non-finite");
+        }
+        channels += (dom.flags[v] & kChannel) ? 1 : 0;
+    }
+    return {stored, channels};
+}
+
+}  // namespace stage2
+
+using namespace stage2;
+
 
 double stage2PressureCap(const Domain& dom, const Stage2Options& g) {
     double pmax = 0;
@@ -217,14 +446,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     Stage2Result res;
     res.pressureCap = stage2PressureCap(dom, g);
     res.sourceConnectedIteration.assign(dom.sourceVoxels.size(), std::nullopt);
-
-    // Relative refill level of each source: the strongest source refills to full capacity,
-    // a weaker one in proportion to its pressure.
-    double pmax = 0;
-    for (double p : dom.sourcePressure) pmax = std::max(pmax, p);
-    std::vector<std::pair<std::size_t, double>> refill;
-    for (std::size_t si = 0; si < dom.sourceVoxels.size(); ++si)
-        for (std::size_t v : dom.sourceVoxels[si]) refill.push_back({v, dom.sourcePressure[si] / pmax});
+    const std::vector<Refill> refill = refillLevels(dom);
 
     Grid3<float> rate = rateField(dom, g);
     fastmarch::EikonalField pressure;
@@ -234,25 +456,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         res.pressureSeconds += since(tp);
     }
 
-    std::vector<double> water(n, 0.0);
-    std::vector<double> accept(n, 0.0), incoming(n, 0.0), fc(n, 0.0), fa(n, 0.0), upShare(n, 0.0);
-    // offer[s][v]: water voxel v offers this iteration to its neighbour in direction s (slot-major,
-    // so the sums over neighbours read contiguous rows).
-    std::vector<double> offerStore(26 * n, 0.0);
-    std::array<double*, 26> offer{};
-    for (std::size_t sl = 0; sl < 26; ++sl) offer[sl] = offerStore.data() + sl * n;
-    std::array<int, 26> opposite{};
-    std::array<double, 26> invLength{};
-    for (std::size_t sl = 0; sl < 26; ++sl) {
-        opposite[sl] = slots().slot[sl].opposite;
-        invLength[sl] = slots().slot[sl].invLength;
-    }
-    std::vector<std::uint8_t> hadOffers(n, 0);
-    const std::size_t rows = std::size_t(d.ny) * std::size_t(d.nz);
-    std::vector<std::uint8_t> wetRow(rows, 0), offerRow(rows, 0), flowRow(rows, 0);
+    Stage2State st(d);
     std::vector<std::size_t> changed;
-    const bool proportional = g.weight == TransportWeight::kProportional;
-    const bool splitBlending = g.blending == FlowBlending::kSplit;
     double stored = 0;
 
     for (int it = 1; it <= g.iterations; ++it) {
@@ -260,194 +465,30 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         rec.iteration = it;
         const double storedBefore = stored;
         const Grid3<double>& P = pressure.value();
+
         const auto tt = Clock::now();
-
-        // Sources refill.
-        for (const auto& [v, level] : refill) {
-            const double target = level * dom.porosity[v];
-            if (water[v] < target) {
-                rec.injected += target - water[v];
-                water[v] = target;
-            }
-            if (water[v] > 0) wetRow[v / std::size_t(d.nx)] = 1;
-        }
-
-        // Phase 1 (Listing 1): every voxel's offers, from the state at the start of the iteration.
-        // offer(v→u) = scale_v · weight(ΔP)/Σweight · (capacity_u − contents_u) for each lower-pressure
-        // neighbour u with free capacity; scale_v ≤ 1 keeps the total within v's contents.
-        // Rows far from any water are skipped: they neither offer nor receive. Per-row flags:
-        // wetRow (some contents), offerRow (some offers), flowRow (some outflow f_c).
-        forEachRow(d, [&](const Row& row) {
-            if (!wetRow[row.index] && !offerRow[row.index]) return;
-            bool any = false;
-            for (int i = 0; i < row.nx; ++i) {
-                const std::size_t v = row.first + std::size_t(i);
-                const double w = water[v];
-                if (w < kMinFlowingWater || (dom.flags[v] & kSink)) {
-                    if (hadOffers[v]) {
-                        for (double* o : offer) o[v] = 0;
-                        hadOffers[v] = 0;
-                    }
-                    continue;
-                }
-                // Participants (Listing 1, lines 1–4) and their weights, gathered once.
-                std::array<double, 26> num{}, freeCap{};
-                const double pv = P[v];
-                const double norm = pairedSum(row, i, [&](int sl, std::size_t u) {
-                    const double pu = P[u];
-                    if (!(pu < pv)) return 0.0;
-                    const double fr = double(dom.porosity[u]) - water[u];
-                    if (!(fr > 0)) return 0.0;
-                    const double x = proportional ? (pv - pu) * invLength[std::size_t(sl)] : 1.0;
-                    num[std::size_t(sl)] = x;
-                    freeCap[std::size_t(sl)] = fr;
-                    return x;
-                });
-                hadOffers[v] = 1;
-                any = true;
-                if (!(norm > 0)) {
-                    for (double* o : offer) o[v] = 0;
-                    continue;
-                }
-                // Shares weight · free capacity; their total, in the same paired order.
-                std::array<double, 26> share{};
-                for (std::size_t sl = 0; sl < 26; ++sl)
-                    share[sl] = num[sl] != 0 ? (num[sl] / norm) * freeCap[sl] : 0.0;
-                const double total = pairedSlotSum(share);
-                const double scale = total > w ? w / total : 1.0;  // never more in total than the contents
-                for (std::size_t sl = 0; sl < 26; ++sl) offer[sl][v] = share[sl] * scale;
-            }
-            offerRow[row.index] = any ? 1 : 0;
-        });
-
-        // Phase 2: each receiver accepts the same fraction of every offer it got.
-        forEachRow(d, [&](const Row& row) {
-            if (!row.anyAround(offerRow)) {
-                std::fill_n(incoming.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
-                std::fill_n(accept.begin() + std::ptrdiff_t(row.first), row.nx, 1.0);
-                return;
-            }
-            for (int i = 0; i < row.nx; ++i) {
-                const std::size_t u = row.first + std::size_t(i);
-                // The offer reaching u from its neighbour v in direction s was made by v in the opposite direction.
-                const double in = pairedSum(row, i, [&](int sl, std::size_t v) {
-                    return offer[std::size_t(opposite[std::size_t(sl)])][v];
-                });
-                incoming[u] = in;
-                const double freeCap = (dom.flags[u] & kSink) ? in : double(dom.porosity[u]) - water[u];
-                accept[u] = in > freeCap ? std::max(0.0, freeCap) / in : 1.0;
-            }
-        });
-
-        // Phase 3: move the accepted water; f_c = water that left the voxel.
-        forEachRow(d, [&](const Row& row) {
-            bool any = false;
-            for (int i = 0; i < row.nx; ++i) {
-                const std::size_t v = row.first + std::size_t(i);
-                fc[v] = offerRow[row.index] && hadOffers[v]
-                            ? pairedSum(row, i, [&](int sl, std::size_t u) { return offer[std::size_t(sl)][v] * accept[u]; })
-                            : 0.0;
-                any = any || fc[v] > 0;
-            }
-            flowRow[row.index] = any ? 1 : 0;
-        });
-        double drained = 0, moved = 0;
-        std::fill(wetRow.begin(), wetRow.end(), 0);
-        for (std::size_t v = 0; v < n; ++v) {
-            water[v] += accept[v] * incoming[v] - fc[v];
-            moved += fc[v];
-            if (dom.flags[v] & kSink) {
-                drained += water[v];
-                water[v] = 0;
-            }
-            if (water[v] > 0) wetRow[v / std::size_t(d.nx)] = 1;
-        }
-        rec.drained = drained;
-        rec.flow = moved;
+        rec.injected = refillSources(dom, refill, st);
+        computeOffers(dom, P, g.weight, st);
+        computeAcceptance(dom, st);
+        std::tie(rec.flow, rec.drained) = moveWater(dom, st);
         res.transportSeconds += since(tt);
 
-        // Flow blending (Eq. 2): f_a of a voxel is the flow of its downhill neighbours — the largest
-        // f_c among them ("max"), or the sum of the shares each passes, f_c split equally over its
-        // uphill neighbours ("split").
         const auto te = Clock::now();
-        if (splitBlending) forEachRow(d, [&](const Row& row) {
-            for (int i = 0; i < row.nx; ++i) {
-                const std::size_t v = row.first + std::size_t(i);
-                if (fc[v] == 0) {
-                    upShare[v] = 0;
-                    continue;
-                }
-                const double pv = P[v];
-                const double up = pairedSum(row, i, [&](int, std::size_t u) { return P[u] > pv ? 1.0 : 0.0; });
-                upShare[v] = up > 0 ? fc[v] / up : 0.0;
-            }
-        });
-        forEachRow(d, [&](const Row& row) {
-            if (!row.anyAround(flowRow)) {
-                std::fill_n(fa.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
-                return;
-            }
-            for (int i = 0; i < row.nx; ++i) {
-                const std::size_t v = row.first + std::size_t(i);
-                const double pv = P[v];
-                if (splitBlending) {
-                    fa[v] = pairedSum(row, i, [&](int, std::size_t u) { return P[u] < pv ? upShare[u] : 0.0; });
-                } else {
-                    double strongest = 0;  // max is order-free: mirror symmetry and determinism hold
-                    pairedSum(row, i, [&](int, std::size_t u) {
-                        if (P[u] < pv) strongest = std::max(strongest, fc[u]);
-                        return 0.0;
-                    });
-                    fa[v] = strongest;
-                }
-            }
-        });
-
-        // Erosion (Eq. 1) and channel flags.
-        double eroded = 0;
+        blendFlow(dom, P, g.blending, st);
         changed.clear();
-        const float threshold = float(g.channelThreshold);
-        for (std::size_t v = 0; v < n; ++v) {
-            std::uint8_t& f = dom.flags[v];
-            if (f & kOpen) continue;
-            const double flow = g.wa * fa[v] + fc[v];
-            if (flow > 0) {
-                const float R = dom.porosity[v];
-                const double dR = std::min(g.w0 * (g.m == 1.0 ? flow : std::pow(flow, g.m)), 1.0 - double(R));
-                if (dR > 0) {
-                    dom.porosity[v] = std::min(1.f, float(double(R) + dR));
-                    eroded += double(dom.porosity[v]) - double(R);
-                }
-            }
-            if (!(f & kChannel) && dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v]) {
-                f |= kChannel;
-                if (rate[v] > float(g.pRateChannel)) {
-                    rate[v] = float(g.pRateChannel);
-                    changed.push_back(v);
-                }
-            }
-            dom.flow[v] = float(flow);
-        }
-        rec.eroded = eroded;
+        rec.eroded = erode(dom, g, st, rate, changed);
         res.erosionSeconds += since(te);
 
         // Pressure: propagate the decreases caused by new channel voxels.
         {
             const auto tp = Clock::now();
-            rec.pressureUpdates = changed.empty() ? 0 : long(pressure.decrease(rate, changed));
+            rec.pressureUpdates = long(updatePressure(pressure, rate, changed));
             res.pressureSeconds += since(tp);
         }
 
         // Bookkeeping.
-        stored = 0;
-        long channels = 0;
-        for (std::size_t v = 0; v < n; ++v) {
-            stored += water[v];
-            if (!std::isfinite(water[v])) throw RuntimeError("stage 2: water became non-finite");
-            channels += (dom.flags[v] & kChannel) ? 1 : 0;
-        }
+        std::tie(stored, rec.channelVoxels) = waterAndChannels(dom, st, it);
         rec.stored = stored;
-        rec.channelVoxels = channels;
         rec.balanceError = std::abs((stored - storedBefore) - (rec.injected - rec.drained));
         res.totalInjected += rec.injected;
         res.totalDrained += rec.drained;
@@ -464,7 +505,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
 
         if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
             for (std::size_t v = 0; v < n; ++v) {
-                dom.water[v] = float(water[v]);
+                dom.water[v] = float(st.water[v]);
                 dom.pressure[v] = float(pressure.value()[v]);
             }
             snapshot(it, dom);
@@ -473,7 +514,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     }
 
     for (std::size_t v = 0; v < n; ++v) {
-        dom.water[v] = float(water[v]);
+        dom.water[v] = float(st.water[v]);
         dom.pressure[v] = float(pressure.value()[v]);
     }
     const double net = stored - (res.totalInjected - res.totalDrained);

@@ -10,14 +10,17 @@
 ///     neighbours with free capacity, a share weight(ΔP)·(capacity − contents) each, never more
 ///     than it holds. Made order-free and deterministic as a two-phase Jacobi step: all offers are
 ///     computed from the state at the start of the iteration; a receiver offered more than its free
-///     capacity accepts the same fraction of every offer. Sources refill, sinks drain; water is
-///     conserved to round-off (checked every iteration).
-///  3. **Flow blending** (Eq. 2): each voxel passes its through-flow f_c, split equally, to its
-///     higher-pressure neighbours (f_a); f = w_a·f_a + f_c.
+///     capacity accepts the same fraction of every offer. Sources refill, sinks drain; each
+///     iteration's balance is recorded (`Stage2Record::balanceError`) and the whole run's is
+///     checked at the end (relative error below 1e-6, else RuntimeError).
+///  3. **Flow blending** (Eq. 2): f_a of a voxel from the f_c of its lower-pressure neighbours —
+///     the largest of them (`FlowBlending::kMax`, the default), or the sum of the shares each
+///     passes, f_c split equally over its uphill neighbours (`kSplit`); f = w_a·f_a + f_c.
 ///  4. **Erosion** (Eq. 1): R += min(w_0·f^m, 1 − R); capacity follows R.
 ///  5. **Bookkeeping**: a voxel eroded to `channel_threshold` becomes channel (and takes the
 ///     channel pressure rate); breakthrough = the first iteration a channel joins a source to a sink.
 ///
+/// The steps are named functions in sim/stage2_steps.h, each tested against hand-computed numbers.
 /// Every sum over neighbours pairs the −x and +x neighbour first, so an x-mirrored scenario gives
 /// an x-mirrored result bit for bit; every voxel's update reads only the previous state, so the
 /// result is the same for any thread count.

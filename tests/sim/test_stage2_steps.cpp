@@ -1,0 +1,271 @@
+// The steps of one stage-2 iteration (sim/stage2_steps.h), each on a grid of a few voxels against
+// numbers computed by hand from Listing 1 and Eq. 1–2 of the paper.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "sim/domain.h"
+#include "sim/stage2_steps.h"
+
+using namespace cavesim;
+using namespace cavesim::stage2;
+
+namespace {
+
+/// The slot of direction (di, dj, dk).
+int slotOf(int di, int dj, int dk) {
+    for (int s = 0; s < 26; ++s)
+        if (slots()[std::size_t(s)].di == di && slots()[std::size_t(s)].dj == dj && slots()[std::size_t(s)].dk == dk)
+            return s;
+    return -1;
+}
+
+/// A row of voxels along x with the given porosity, water and pressure; every row marked wet.
+struct Row3 {
+    Domain dom;
+    Stage2State st;
+    Grid3<double> P;
+    Row3(std::vector<float> R, std::vector<double> W, std::vector<double> p)
+        : dom(emptyDomain(Dims{int(R.size()), 1, 1}, 1.0, 0.f)), st(dom.dims), P(dom.dims, 0.0) {
+        for (std::size_t v = 0; v < R.size(); ++v) {
+            dom.porosity[v] = R[v];
+            st.water[v] = W[v];
+            P[v] = p[v];
+        }
+        std::fill(st.wetRow.begin(), st.wetRow.end(), 1);
+    }
+    double offer(std::size_t v, int di, int dj = 0, int dk = 0) const { return st.offer(slotOf(di, dj, dk))[v]; }
+};
+
+}  // namespace
+
+TEST(Stage2Steps, SlotsPairMinusAndPlusXAndKnowTheirOpposites) {
+    const auto& s = slots();
+    EXPECT_EQ(s[0].di, -1);
+    EXPECT_EQ(s[1].di, 1);
+    EXPECT_EQ(s[0].dj, s[1].dj);
+    EXPECT_EQ(s[0].dk, s[1].dk);
+    for (int a = 0; a < 26; ++a) {
+        const Slot& x = s[std::size_t(a)];
+        const Slot& y = s[std::size_t(x.opposite)];
+        EXPECT_EQ(x.di, -y.di);
+        EXPECT_EQ(x.dj, -y.dj);
+        EXPECT_EQ(x.dk, -y.dk);
+        EXPECT_DOUBLE_EQ(x.invLength, 1.0 / std::sqrt(double(x.di * x.di + x.dj * x.dj + x.dk * x.dk)));
+    }
+}
+
+TEST(Stage2Steps, RefillLevelsFollowSourcePressure) {
+    Domain d = emptyDomain(Dims{4, 1, 1}, 1.0, 0.1f);
+    d.sourceVoxels = {{0}, {3}};
+    d.sourcePressure = {1.0, 2.0};
+    const std::vector<Refill> levels = refillLevels(d);
+    ASSERT_EQ(levels.size(), 2u);
+    EXPECT_DOUBLE_EQ(levels[0].second, 0.5);  // 1 / 2
+    EXPECT_DOUBLE_EQ(levels[1].second, 1.0);
+    Stage2State st(d.dims);
+    st.water[0] = 0.02;  // below 0.5 · 0.1 = 0.05: filled up by 0.03
+    st.water[3] = 0.2;   // above its level 0.1: left alone
+    const double injected = refillSources(d, levels, st);
+    EXPECT_NEAR(injected, 0.05 - 0.02, 1e-8);
+    EXPECT_NEAR(st.water[0], 0.05, 1e-8);
+    EXPECT_EQ(st.water[3], 0.2);
+    EXPECT_EQ(st.wetRow[0], 1);
+}
+
+// Listing 1 on a row: voxel 0 (W 0.4, P 2) has one lower neighbour with free capacity 0.4, so it
+// offers all 0.4; voxel 1 (W 0.1, P 1) would share 0.5 of free capacity but holds only 0.1, so its
+// offer is scaled to 0.1; voxel 2 is dry and offers nothing. Nobody offers uphill.
+TEST(Stage2Steps, OffersFollowListing1) {
+    Row3 r({0.5f, 0.5f, 0.5f}, {0.4, 0.1, 0.0}, {2, 1, 0});
+    computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
+    EXPECT_DOUBLE_EQ(r.offer(0, +1), 0.4);
+    EXPECT_DOUBLE_EQ(r.offer(1, +1), 0.1);
+    EXPECT_EQ(r.offer(1, -1), 0.0);
+    EXPECT_EQ(r.offer(2, -1), 0.0);
+
+    computeAcceptance(r.dom, r.st);
+    EXPECT_DOUBLE_EQ(r.st.incoming[1], 0.4);
+    EXPECT_DOUBLE_EQ(r.st.accept[1], 1.0);  // free 0.4 ≥ 0.4
+    EXPECT_DOUBLE_EQ(r.st.incoming[2], 0.1);
+
+    const auto [moved, drained] = moveWater(r.dom, r.st);
+    EXPECT_DOUBLE_EQ(moved, 0.5);
+    EXPECT_EQ(drained, 0.0);
+    EXPECT_DOUBLE_EQ(r.st.fc[0], 0.4);
+    EXPECT_DOUBLE_EQ(r.st.fc[1], 0.1);
+    EXPECT_DOUBLE_EQ(r.st.water[0], 0.0);
+    EXPECT_DOUBLE_EQ(r.st.water[1], 0.4);
+    EXPECT_DOUBLE_EQ(r.st.water[2], 0.1);
+}
+
+// Two donors (P 2) offer 0.2 each to the voxel between them (P 0), which has 0.2 of free capacity:
+// it accepts half of every offer, so each donor sends 0.1. Water is conserved.
+TEST(Stage2Steps, OverOfferedReceiverAcceptsTheSameFractionOfEveryOffer) {
+    Row3 r({1.f, 0.3f, 1.f}, {0.5, 0.1, 0.5}, {2, 0, 2});
+    computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
+    EXPECT_NEAR(r.offer(0, +1), 0.2, 1e-7);
+    EXPECT_NEAR(r.offer(2, -1), 0.2, 1e-7);
+    computeAcceptance(r.dom, r.st);
+    EXPECT_NEAR(r.st.accept[1], 0.5, 1e-6);
+    moveWater(r.dom, r.st);
+    EXPECT_NEAR(r.st.fc[0], 0.1, 1e-7);
+    EXPECT_NEAR(r.st.fc[2], 0.1, 1e-7);
+    EXPECT_NEAR(r.st.water[1], 0.3, 1e-7);  // full
+    EXPECT_NEAR(r.st.water[0] + r.st.water[1] + r.st.water[2], 1.1, 1e-15);
+}
+
+// Proportional weights divide by the distance: from (0,0) at P 3 to its face neighbours at P 2 the
+// weight is 1, to the diagonal one at P 1 it is 2/√2 = √2. With free capacity 0.5 each the shares
+// total 0.5 > W = 0.1, so they are scaled by 0.2. Uniform weights give 0.5/3 · 0.2 each.
+TEST(Stage2Steps, ProportionalWeightsDivideByDistance) {
+    for (TransportWeight w : {TransportWeight::kProportional, TransportWeight::kUniform}) {
+        Domain d = emptyDomain(Dims{2, 2, 1}, 1.0, 0.5f);
+        Stage2State st(d.dims);
+        Grid3<double> P(d.dims, 0.0);
+        P.at(0, 0, 0) = 3;
+        P.at(1, 0, 0) = 2;
+        P.at(0, 1, 0) = 2;
+        P.at(1, 1, 0) = 1;
+        st.water[d.dims.index(0, 0, 0)] = 0.1;
+        std::fill(st.wetRow.begin(), st.wetRow.end(), 1);
+        computeOffers(d, P, w, st);
+        const std::size_t v = d.dims.index(0, 0, 0);
+        const double norm = 2 + std::sqrt(2.0);
+        const double face = w == TransportWeight::kProportional ? 0.1 / norm : 0.1 / 3;
+        const double diag = w == TransportWeight::kProportional ? 0.1 * std::sqrt(2.0) / norm : 0.1 / 3;
+        EXPECT_NEAR(st.offer(slotOf(1, 0, 0))[v], face, 1e-15);
+        EXPECT_NEAR(st.offer(slotOf(0, 1, 0))[v], face, 1e-15);
+        EXPECT_NEAR(st.offer(slotOf(1, 1, 0))[v], diag, 1e-15);
+    }
+}
+
+TEST(Stage2Steps, SinksDrainWhatTheyReceive) {
+    Row3 r({0.5f, 1.f, 0.5f}, {0.3, 0.0, 0.0}, {1, 0, 2});
+    r.dom.flags[1] |= kSink;
+    computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
+    computeAcceptance(r.dom, r.st);
+    const auto [moved, drained] = moveWater(r.dom, r.st);
+    EXPECT_DOUBLE_EQ(moved, 0.3);
+    EXPECT_DOUBLE_EQ(drained, 0.3);
+    EXPECT_EQ(r.st.water[1], 0.0);
+}
+
+// Eq. 2 on a row with P = (2, 1, 0) and f_c = (0.4, 0.1, 0): "max" gives each voxel the largest f_c
+// of its lower neighbours: f_a = (0.1, 0, 0). "split" gives the sum of the lower neighbours' f_c
+// divided by their number of uphill neighbours: voxel 1 has one (voxel 0), so f_a(0) = 0.1 / 1.
+TEST(Stage2Steps, BlendingFollowsEq2) {
+    for (FlowBlending b : {FlowBlending::kMax, FlowBlending::kSplit}) {
+        Row3 r({0.5f, 0.5f, 0.5f}, {0, 0, 0}, {2, 1, 0});
+        r.st.fc = {0.4, 0.1, 0.0};
+        std::fill(r.st.flowRow.begin(), r.st.flowRow.end(), 1);
+        blendFlow(r.dom, r.P, b, r.st);
+        EXPECT_DOUBLE_EQ(r.st.fa[0], 0.1);
+        EXPECT_EQ(r.st.fa[1], 0.0);
+        EXPECT_EQ(r.st.fa[2], 0.0);
+    }
+    // Two uphill neighbours share a voxel's f_c under "split": P = (1, 0, 1), f_c(1) = 0.6.
+    Row3 r({0.5f, 0.5f, 0.5f}, {0, 0, 0}, {1, 0, 1});
+    r.st.fc = {0.0, 0.6, 0.0};
+    std::fill(r.st.flowRow.begin(), r.st.flowRow.end(), 1);
+    blendFlow(r.dom, r.P, FlowBlending::kSplit, r.st);
+    EXPECT_DOUBLE_EQ(r.st.fa[0], 0.3);
+    EXPECT_DOUBLE_EQ(r.st.fa[2], 0.3);
+    blendFlow(r.dom, r.P, FlowBlending::kMax, r.st);
+    EXPECT_DOUBLE_EQ(r.st.fa[0], 0.6);
+}
+
+// Eq. 1: f = wa · f_a + f_c = 0.25 · 0.1 + 0.4 = 0.425; ΔR = w0 · f^m = 0.15 · 0.425 (m = 1) on
+// R = 0.05; capped at 1 − R; m = 2 squares f. Sources and sinks never erode. A voxel reaching the
+// channel threshold becomes channel and takes the channel rate.
+TEST(Stage2Steps, ErosionFollowsEq1) {
+    Domain d = emptyDomain(Dims{4, 1, 1}, 1.0, 0.05f);
+    d.porosity[1] = 0.99f;
+    d.porosity[2] = 0.45f;
+    d.flags[3] |= kSource;
+    Stage2State st(d.dims);
+    st.fa = {0.1, 0.1, 0.1, 0.1};
+    st.fc = {0.4, 0.4, 0.4, 0.4};
+    Stage2Options g;  // w0 0.15, wa 0.25, m 1, threshold 0.5
+    Grid3<float> rate = rateField(d, g);
+    std::vector<std::size_t> fresh;
+    const double eroded = erode(d, g, st, rate, fresh);
+    EXPECT_FLOAT_EQ(d.porosity[0], float(0.05f + 0.15 * 0.425));
+    EXPECT_FLOAT_EQ(d.porosity[1], 1.f);  // capped
+    EXPECT_FLOAT_EQ(d.porosity[2], float(0.45f + 0.15 * 0.425));
+    EXPECT_FLOAT_EQ(d.porosity[3], 0.05f);  // source
+    EXPECT_FLOAT_EQ(d.flow[0], 0.425f);
+    EXPECT_NEAR(eroded, 0.15 * 0.425 * 2 + (1.0 - double(0.99f)), 1e-6);
+    // Voxels 1 and 2 crossed 0.5: channel, at the channel rate, listed once.
+    EXPECT_TRUE(d.flags[1] & kChannel);
+    EXPECT_TRUE(d.flags[2] & kChannel);
+    EXPECT_FALSE(d.flags[0] & kChannel);
+    EXPECT_EQ(fresh, (std::vector<std::size_t>{1, 2}));
+    EXPECT_EQ(rate[1], float(g.pRateChannel));
+
+    Domain e = emptyDomain(Dims{1, 1, 1}, 1.0, 0.05f);
+    g.m = 2.0;
+    Grid3<float> rate2 = rateField(e, g);
+    Stage2State s2(e.dims);
+    s2.fa = {0.1};
+    s2.fc = {0.4};
+    fresh.clear();
+    erode(e, g, s2, rate2, fresh);
+    EXPECT_FLOAT_EQ(e.porosity[0], float(0.05f + 0.15 * 0.425 * 0.425));
+}
+
+// The avalanche: P(x) = min over neighbours P(y) + rate(x) · |x − y|. A row with a sink at 0 and
+// rock rate 0.5 has P = (0, 0.5, 1); voxel 1 turning channel (rate 0.001) lowers it to
+// (0, 0.001, 0.501), and both changed voxels are counted.
+TEST(Stage2Steps, PressureUpdateIsTheAvalancheRule) {
+    Domain d = emptyDomain(Dims{3, 1, 1}, 1.0, 0.05f);
+    d.flags[0] |= kSink;
+    d.sinkVoxels = {{0}};
+    Stage2Options g;
+    g.pRate = 0.5;
+    g.pRateChannel = 0.001;
+    Grid3<float> rate(d.dims, 0.5f);
+    fastmarch::EikonalField P;
+    P.solve(d.dims, rate, {{0, 0.0, 0}}, 100.0, fastmarch::Stencil::kAvalanche26);
+    EXPECT_DOUBLE_EQ(P.value()[1], 0.5);
+    EXPECT_DOUBLE_EQ(P.value()[2], 1.0);
+    rate[1] = 0.001f;
+    EXPECT_EQ(updatePressure(P, rate, {1}), 2u);
+    EXPECT_NEAR(P.value()[1], 0.001, 1e-9);
+    EXPECT_NEAR(P.value()[2], 0.501, 1e-9);
+    EXPECT_EQ(updatePressure(P, rate, {}), 0u);
+}
+
+TEST(Stage2Steps, BookkeepingCountsAndRefusesNonFiniteWater) {
+    Domain d = emptyDomain(Dims{3, 1, 1}, 1.0, 0.05f);
+    d.flags[1] |= kChannel;
+    Stage2State st(d.dims);
+    st.water = {0.1, 0.2, 0.3};
+    const auto [stored, channels] = waterAndChannels(d, st, 7);
+    EXPECT_DOUBLE_EQ(stored, 0.1 + 0.2 + 0.3);
+    EXPECT_EQ(channels, 1);
+    st.water[2] = std::nan("");
+    try {
+        waterAndChannels(d, st, 7);
+        FAIL();
+    } catch (const RuntimeError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("stage 2"), std::string::npos) << m;
+        EXPECT_NE(m.find("iteration 7"), std::string::npos) << m;
+        EXPECT_NE(m.find("(2, 0, 0)"), std::string::npos) << m;
+    }
+}
+
+TEST(Stage2Steps, SourcesConnectThroughChannelVoxelsOnly) {
+    Domain d = emptyDomain(Dims{5, 1, 1}, 1.0, 0.05f);
+    d.flags[0] |= kSource;
+    d.sourceVoxels = {{0}};
+    d.flags[4] |= kSink;
+    d.sinkVoxels = {{4}};
+    d.flags[1] |= kChannel;
+    d.flags[2] |= kChannel;
+    EXPECT_EQ(connectedSources(d), std::vector<bool>{false});
+    d.flags[3] |= kChannel;
+    EXPECT_EQ(connectedSources(d), std::vector<bool>{true});
+}
