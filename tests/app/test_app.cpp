@@ -1,0 +1,199 @@
+// The application layer (src/app): the run pipeline, the state files written and read back in one
+// schema, the report rebuilt from a run folder, the seed override, and limits reported against the
+// scenario file.
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "app/commands.h"
+#include "app/output_dir.h"
+#include "app/pipeline.h"
+#include "app/state.h"
+#include "core/error.h"
+#include "sim/cave.h"
+#include "sim/domain.h"
+#include "sim/scenario_io.h"
+#include "sim/stage1.h"
+#include "sim/stage2.h"
+
+using namespace cavesim;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Small enough for a test: a 20 × 12 × 8 block, two sources, one sink wall, 40 iterations.
+const char* kSmall = R"(name = "small"
+seed = 5
+[domain]
+size = [20, 12, 8]
+voxel_size = 2.0
+[[source]]
+at = [2, 3, 6]
+[[source]]
+at = [2, 9, 6]
+pressure = 0.5
+[[sink]]
+box = [[19, 0, 0], [19, 11, 7]]
+[stage2]
+iterations = 40
+[output]
+images = false
+)";
+
+fs::path scratch(const std::string& name) {
+    const fs::path p = fs::temp_directory_path() / ("cavesim_test_app_" + std::to_string(::getpid())) / name;
+    fs::remove_all(p);
+    fs::create_directories(p.parent_path());
+    return p;
+}
+
+app::PipelineResult runInto(const Scenario& s, const fs::path& out, const app::PipelineOptions& o = {}) {
+    app::OutputDir dir(out, true);
+    dir.open();
+    app::PipelineResult r = app::runPipeline(s, dir, o);
+    dir.commit();
+    return r;
+}
+
+/// The final domain of a scenario, simulated in memory exactly as the pipeline does.
+Domain simulate(const Scenario& s) {
+    Rng rng(s.seed);
+    Domain d = buildDomain(s, rng);
+    if (s.stage1.enabled) runStage1(d, s.stage1, rng);
+    if (s.stage2.enabled) {
+        prepareStage2(d, s.stage2);
+        runStage2(d, s.stage2);
+    }
+    return d;
+}
+
+}  // namespace
+
+TEST(App, SeedTextIsDigitsOnly) {
+    EXPECT_EQ(app::parseSeed("0"), 0u);
+    EXPECT_EQ(app::parseSeed("0042"), 42u);
+    EXPECT_EQ(app::parseSeed("9223372036854775807"), 9223372036854775807ull);
+    for (const char* bad : {"", "-1", "+3", "1e3", "9223372036854775808", "99999999999999999999", "12a"})
+        EXPECT_THROW(app::parseSeed(bad), InputError) << bad;
+}
+
+TEST(App, PipelineWritesEveryFileAndTheStateReadsBackExactly) {
+    const Scenario s = parseScenarioString(kSmall, "small.toml");
+    const fs::path out = scratch("run");
+    const app::PipelineResult r = runInto(s, out);
+    for (const char* f : {"scenario.toml", "state.vdb", "stage1.vdb", "cave.obj", "cave.ply", "skeleton.json",
+                          "skeleton_nodes.dat", "skeleton_links.dat", "report.json", "report.md"})
+        EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+    EXPECT_EQ(r.report["scenario"], "small");
+    EXPECT_EQ(r.report["stage2"]["iterations"], 40);
+
+    // The state file holds the in-memory result, grid for grid (floats stored exactly).
+    const Domain mem = simulate(s);
+    const Domain back = app::loadState(out, s, r.report);
+    EXPECT_EQ(back.porosity.data, mem.porosity.data);
+    EXPECT_EQ(back.porosity0.data, mem.porosity0.data);
+    EXPECT_EQ(back.flags.data, mem.flags.data);
+    EXPECT_EQ(back.zone.data, mem.zone.data);
+    EXPECT_EQ(back.pressure.data, mem.pressure.data);
+    EXPECT_EQ(back.flow.data, mem.flow.data);
+    EXPECT_EQ(back.water.data, mem.water.data);
+    EXPECT_EQ(back.sourceVoxels, mem.sourceVoxels);
+    EXPECT_EQ(back.sinkVoxels, mem.sinkVoxels);
+}
+
+TEST(App, StateAfterStage1ShowsProtochannelsOpenedWithoutChangingTheDomain) {
+    Scenario s = parseScenarioString(kSmall, "small.toml");
+    s.stage2.enabled = false;
+    Rng rng(s.seed);
+    Domain d = buildDomain(s, rng);
+    runStage1(d, s.stage1, rng);
+    const Grid3<float> shown = app::recordedPorosity(d, s, app::StateMoment::kFinal);
+    long opened = 0;
+    for (std::size_t v = 0; v < d.dims.count(); ++v) {
+        EXPECT_EQ(d.porosity[v], d.porosity0[v]);
+        if (d.flags[v] & kProtochannel) {
+            EXPECT_EQ(shown[v], std::max(d.porosity0[v], float(s.stage1.protochannelPorosity)));
+            ++opened;
+        } else {
+            EXPECT_EQ(shown[v], d.porosity[v]);
+        }
+    }
+    EXPECT_GT(opened, 0);
+    // With stage 2 the final state is the domain's own porosity.
+    s.stage2.enabled = true;
+    EXPECT_EQ(app::recordedPorosity(d, s, app::StateMoment::kFinal).data, d.porosity.data);
+}
+
+TEST(App, ChangedStateFileIsRefusedBeforeReading) {
+    const Scenario s = parseScenarioString(kSmall, "small.toml");
+    const fs::path out = scratch("changed");
+    const app::PipelineResult r = runInto(s, out);
+    {
+        std::fstream f(out / "state.vdb", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(100);
+        f.put('\x7f');
+    }
+    EXPECT_THROW(app::loadState(out, s, r.report), InputError);
+    EXPECT_THROW(app::rebuildReport(out.string()), InputError);
+}
+
+TEST(App, RebuiltReportMeasuresTheSameCave) {
+    const Scenario s = parseScenarioString(kSmall, "small.toml");
+    const fs::path out = scratch("rebuild");
+    const app::PipelineResult r = runInto(s, out);
+    const std::string msg = app::rebuildReport(out.string());
+    EXPECT_NE(msg.find("rebuilt"), std::string::npos);
+    std::ifstream in(out / "report.json");
+    const nlohmann::json again = nlohmann::json::parse(in);
+    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category", "checksums"})
+        EXPECT_EQ(again[k], r.report[k]) << k;
+}
+
+TEST(App, AlsoMeasureEqualsARunWithTheOtherCaveDefinition) {
+    Scenario s = parseScenarioString(kSmall, "small.toml");
+    s.output.mesh = false;
+    app::PipelineOptions o;
+    o.alsoMeasure = CaveExtent::kWithProtochannels;
+    const app::PipelineResult both = runInto(s, scratch("both"), o);
+    s.output.cave = CaveExtent::kWithProtochannels;
+    const app::PipelineResult other = runInto(s, scratch("other"));
+    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
+        EXPECT_EQ(both.alsoMeasured[k], other.report[k]) << k;
+}
+
+TEST(App, Stage1LimitNamesTheFileLineAndKey) {
+    const std::string text = std::string(kSmall) + "[stage1]\nmax_graph_voxels = 100\n";
+    const Scenario s = parseScenarioString(text, "limits.toml");
+    try {
+        runInto(s, scratch("limit"));
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("limits.toml:6"), std::string::npos) << m;  // the first [[source]]
+        EXPECT_NE(m.find("'stage1.max_graph_voxels' = 100"), std::string::npos) << m;
+        EXPECT_NE(m.find("source 1"), std::string::npos) << m;
+    }
+}
+
+TEST(App, RequestedScenarioAppliesOverridesAndValidates) {
+    app::RunRequest q;
+    q.seed = "77";
+    q.meshStyle = MeshStyle::kVoxel;
+    const Scenario s = app::requestedScenario(q);  // the built-in default
+    EXPECT_EQ(s.seed, 77u);
+    EXPECT_EQ(s.output.meshStyle, MeshStyle::kVoxel);
+    EXPECT_EQ(s.name, "fig10");
+    q.seed = "x";
+    EXPECT_THROW(app::requestedScenario(q), InputError);
+}
+
+TEST(App, ValidateSummaryNamesTheGrid) {
+    const fs::path p = scratch("v.toml");
+    std::ofstream(p) << kSmall;
+    const std::string line = app::validateSummary(p.string());
+    EXPECT_NE(line.find("ok: scenario 'small', grid 20 x 12 x 8"), std::string::npos) << line;
+    EXPECT_NE(line.find("2 source(s), 1 sink(s)"), std::string::npos) << line;
+}
