@@ -281,7 +281,10 @@ void computeAcceptance(const Domain& dom, Stage2State& st) {
                 pairedSum(row, i, [&](int sl, std::size_t v) { return offer[std::size_t(opposite[std::size_t(sl)])][v]; });
             st.incoming[u] = in;
             const double freeCap = (dom.flags[u] & kSink) ? in : double(dom.porosity[u]) - st.water[u];
-            st.accept[u] = in > freeCap ? std::max(0.0, freeCap) / in : 1.0;
+            // Round-off in moveWater may leave a voxel an ulp over full (freeCap < 0); nobody
+            // offers to a full voxel, so in = 0 there, and 0 / 0 must not be taken: with nothing
+            // incoming there is nothing to refuse.
+            st.accept[u] = in > 0 && in > freeCap ? std::max(0.0, freeCap) / in : 1.0;
         }
     });
 }
@@ -385,21 +388,36 @@ std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>
     return newChannel.empty() ? 0 : pressure.decrease(rate, newChannel);
 }
 
-std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& st, int iteration) {
+std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure,
+                                         int iteration) {
     double stored = 0;
     long channels = 0;
+    bool finite = true;
     const std::size_t n = st.water.size();
     for (std::size_t v = 0; v < n; ++v) {
         stored += st.water[v];
-        if (!std::isfinite(st.water[v])) {
-            const Index3 p = dom.dims.coord(v);
-            throw RuntimeError("stage 2, iteration " + std::to_string(iteration) + ": the water of voxel (" +
-                               std::to_string(p.i) + ", " + std::to_string(p.j) + ", " + std::to_string(p.k) +
-                               ") became non-finite");
-        }
+        finite = finite && std::isfinite(st.water[v]) && std::isfinite(dom.flow[v]) && std::isfinite(pressure[v]);
         channels += (dom.flags[v] & kChannel) ? 1 : 0;
     }
-    return {stored, channels};
+    if (finite) return {stored, channels};
+    // Name the quantity that went bad first, in cause-before-effect order, and its first voxel.
+    const auto fail = [&](const char* name, std::size_t v, double x) {
+        const Index3 p = dom.dims.coord(v);
+        throw RuntimeError("stage 2, iteration " + std::to_string(iteration) + ": " + name + " became non-finite (" +
+                           std::to_string(x) + ") at voxel (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
+                           ", " + std::to_string(p.k) + ")");
+    };
+    const std::pair<const char*, const std::vector<double>*> fields[] = {
+        {"accept", &st.accept}, {"incoming water", &st.incoming}, {"outflow f_c", &st.fc},
+        {"water", &st.water},   {"blended flow f_a", &st.fa},     {"pressure", &pressure.data}};
+    for (const auto& [name, x] : fields)
+        for (std::size_t v = 0; v < n; ++v)
+            if (!std::isfinite((*x)[v])) fail(name, v, (*x)[v]);
+    for (std::size_t v = 0; v < n; ++v)
+        if (!std::isfinite(dom.porosity[v])) fail("porosity", v, dom.porosity[v]);
+    for (std::size_t v = 0; v < n; ++v)
+        if (!std::isfinite(dom.flow[v])) fail("flow", v, dom.flow[v]);
+    throw RuntimeError("stage 2, iteration " + std::to_string(iteration) + ": state became non-finite");
 }
 
 }  // namespace stage2
@@ -487,7 +505,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         }
 
         // Bookkeeping.
-        std::tie(stored, rec.channelVoxels) = waterAndChannels(dom, st, it);
+        std::tie(stored, rec.channelVoxels) = waterAndChannels(dom, st, P, it);
         rec.stored = stored;
         rec.balanceError = std::abs((stored - storedBefore) - (rec.injected - rec.drained));
         res.totalInjected += rec.injected;

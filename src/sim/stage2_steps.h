@@ -80,7 +80,8 @@ double refillSources(const Domain& domain, const std::vector<Refill>& levels, St
 void computeOffers(const Domain& domain, const Grid3<double>& pressure, TransportWeight weight, Stage2State& state);
 
 /// Step 3: incoming(u) = Σ offers to u; accept(u) = min(1, free capacity / incoming) (a sink
-/// accepts everything).
+/// accepts everything; with nothing incoming, 1 — also for a voxel an ulp over full, whose free
+/// capacity is slightly negative).
 void computeAcceptance(const Domain& domain, Stage2State& state);
 
 /// Step 4: moves the accepted water, sets f_c (water that left each voxel) and drains the sinks.
@@ -108,9 +109,11 @@ std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>
 /// sink voxels), in source order.
 std::vector<bool> connectedSources(const Domain& domain);
 
-/// Step 8: Σ water (and the finite check: a non-finite contents throws RuntimeError naming the
-/// iteration and the voxel) and the number of channel voxels.
-std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State& state, int iteration);
+/// Step 8: Σ water and the number of channel voxels, with the finite check: non-finite water,
+/// flow or pressure throws RuntimeError naming the iteration, the quantity that went bad first
+/// (acceptance, incoming water, f_c, water, f_a, pressure, porosity, flow) and its first voxel.
+std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State& state,
+                                         const Grid3<double>& pressure, int iteration);
 
 /// The pressure rate field of a domain: pRateChannel on channel, protochannel, source and sink
 /// voxels, pRate elsewhere.

@@ -141,6 +141,15 @@ TEST(Stage2Steps, ProportionalWeightsDivideByDistance) {
     }
 }
 
+// A voxel an ulp over full (free capacity < 0) receives no offers: its acceptance is 1, not 0/0.
+TEST(Stage2Steps, OverFullVoxelWithNothingIncomingAcceptsOne) {
+    Row3 r({0.5f, 0.5f, 0.5f}, {0.0, 0.5000000000000001, 0.0}, {0, 0, 0});
+    computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
+    computeAcceptance(r.dom, r.st);
+    EXPECT_EQ(r.st.incoming[1], 0.0);
+    EXPECT_EQ(r.st.accept[1], 1.0);
+}
+
 TEST(Stage2Steps, SinksDrainWhatTheyReceive) {
     Row3 r({0.5f, 1.f, 0.5f}, {0.3, 0.0, 0.0}, {1, 0, 2});
     r.dom.flags[1] |= kSink;
@@ -242,17 +251,19 @@ TEST(Stage2Steps, BookkeepingCountsAndRefusesNonFiniteWater) {
     d.flags[1] |= kChannel;
     Stage2State st(d.dims);
     st.water = {0.1, 0.2, 0.3};
-    const auto [stored, channels] = waterAndChannels(d, st, 7);
+    const Grid3<double> P(d.dims, 1.0);
+    const auto [stored, channels] = waterAndChannels(d, st, P, 7);
     EXPECT_DOUBLE_EQ(stored, 0.1 + 0.2 + 0.3);
     EXPECT_EQ(channels, 1);
     st.water[2] = std::nan("");
     try {
-        waterAndChannels(d, st, 7);
+        waterAndChannels(d, st, P, 7);
         FAIL();
     } catch (const RuntimeError& e) {
         const std::string m = e.what();
         EXPECT_NE(m.find("stage 2"), std::string::npos) << m;
         EXPECT_NE(m.find("iteration 7"), std::string::npos) << m;
+        EXPECT_NE(m.find("water became non-finite"), std::string::npos) << m;
         EXPECT_NE(m.find("(2, 0, 0)"), std::string::npos) << m;
     }
 }
