@@ -143,7 +143,7 @@ const IndexRow kIndexRows[] = {
     {"W (m)", "mean_width_m", {2.52, 4.56}, {0.65, 4.53}, {2, 100}, {0.9, 8.0}},
 };
 
-/// Real-cave ranges of Collon et al. 2017 over 34 surveyed networks (DESIGN §5).
+/// Real-cave ranges of Collon et al. 2017 over 34 surveyed networks.
 struct MetricRow {
     const char* key;
     const char* meaning;

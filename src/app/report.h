@@ -42,7 +42,7 @@ nlohmann::json meshJson(const mesh::MeshStats& stats);
 /// network, morphometry, graph_metrics, skeleton summary and cave category of an analysis.
 nlohmann::json analysisJson(const morpho::CaveAnalysis& analysis);
 
-/// The report.json document (DESIGN §4 keys).
+/// The report.json document (its keys: README.md, "Commands" and the output table).
 nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec);
 
 /// The human report: parameters, timings, events, pictures, indices beside the paper's ranges.
