@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "core/check.h"
 
 namespace cavesim::mesh::detail {
 namespace {
@@ -325,20 +325,20 @@ double volumeOffset(const FloatGrid& phi, double target, double maxOffset) {
 }  // namespace
 
 void validateMeshOptions(const MeshOptions& o, double voxelSize) {
-    auto fail = [](const std::string& what) { throw InputError("mesh option " + what); };
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        fail("voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
-    if (o.subdivision < 1 || o.subdivision > 4)
-        fail("subdivision must be in [1, 4], got " + std::to_string(o.subdivision));
-    if (o.halfWidth < 3 || o.halfWidth > 8) fail("half width must be in [3, 8], got " + std::to_string(o.halfWidth));
-    if (!(o.tubeRadius >= 0.25 && o.tubeRadius <= 0.85))
-        fail("tube radius must be in [0.25, 0.85] voxels, got " + std::to_string(o.tubeRadius));
-    if (o.smoothingIterations < 0 || o.smoothingIterations > 100)
-        fail("smoothing iterations must be in [0, 100], got " + std::to_string(o.smoothingIterations));
-    if (!(o.maxVolumeOffset >= 0.0 && o.maxVolumeOffset <= 1.0))
-        fail("max volume offset must be in [0, 1] voxels, got " + std::to_string(o.maxVolumeOffset));
-    if (!(o.adaptivity >= 0.0 && o.adaptivity <= 1.0))
-        fail("adaptivity must be in [0, 1], got " + std::to_string(o.adaptivity));
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "mesh option voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
+    CAVESIM_CHECK(o.subdivision >= 1 && o.subdivision <= 4,
+                  "mesh option subdivision must be in [1, 4], got " + std::to_string(o.subdivision));
+    CAVESIM_CHECK(o.halfWidth >= 3 && o.halfWidth <= 8,
+                  "mesh option half width must be in [3, 8], got " + std::to_string(o.halfWidth));
+    CAVESIM_CHECK(o.tubeRadius >= 0.25 && o.tubeRadius <= 0.85,
+                  "mesh option tube radius must be in [0.25, 0.85] voxels, got " + std::to_string(o.tubeRadius));
+    CAVESIM_CHECK(o.smoothingIterations >= 0 && o.smoothingIterations <= 100,
+                  "mesh option smoothing iterations must be in [0, 100], got " + std::to_string(o.smoothingIterations));
+    CAVESIM_CHECK(o.maxVolumeOffset >= 0.0 && o.maxVolumeOffset <= 1.0,
+                  "mesh option max volume offset must be in [0, 1] voxels, got " + std::to_string(o.maxVolumeOffset));
+    CAVESIM_CHECK(o.adaptivity >= 0.0 && o.adaptivity <= 1.0,
+                  "mesh option adaptivity must be in [0, 1], got " + std::to_string(o.adaptivity));
 }
 
 CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize, const MeshOptions& options) {

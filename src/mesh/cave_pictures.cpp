@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "mesh/cave_level_set.h"
 #include "render/colormap.h"
 #include "render/png_io.h"
@@ -355,8 +355,7 @@ std::array<render::Image, 4> renderViews(const Cave& cave, int width, const deta
 }
 
 void checkWidth(int width) {
-    if (width < 64 || width > 16384)
-        throw InputError("picture width must be in [64, 16384], got " + std::to_string(width));
+    CAVESIM_CHECK(width >= 64 && width <= 16384, "picture width must be in [64, 16384], got " + std::to_string(width));
 }
 
 void writeViews(const std::array<render::Image, 4>& images, const std::string& imagesDir) {

@@ -5,7 +5,7 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "mesh/cave_mesh.h"
 
 namespace cavesim::mesh {
@@ -45,7 +45,8 @@ MeshStats measureMesh(const TriangleMesh& mesh) {
     if (nf == 0) return s;
     for (const auto& t : mesh.triangles)
         for (int c = 0; c < 3; ++c)
-            if (t[c] < 0 || t[c] >= nv) throw InputError("measureMesh: a triangle refers to a missing vertex");
+            CAVESIM_CHECK(t[c] >= 0 && t[c] < nv, "measureMesh: a triangle refers to the missing vertex " +
+                                                      std::to_string(t[c]) + " of " + std::to_string(nv));
 
     // Area and signed volume (sum of signed tetrahedra against the origin).
     for (const auto& t : mesh.triangles) {
@@ -146,8 +147,8 @@ MeshStats measureMesh(const TriangleMesh& mesh) {
 }
 
 TriangleMesh buildVoxelMesh(const Grid3<std::uint8_t>& mask, double voxelSize) {
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        throw InputError("voxel size must be a positive number of metres");
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
     const Dims& d = mask.dims;
     TriangleMesh mesh;
     std::unordered_map<std::uint64_t, int> corner;

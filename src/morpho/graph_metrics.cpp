@@ -12,7 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "core/error.h"
+#include "core/check.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -414,31 +414,28 @@ GraphMetrics metricsOf(const Skeleton& s) {
 }  // namespace
 
 void validateSkeleton(const Skeleton& skeleton) {
-    if (skeleton.nodes.size() > std::size_t(INT_MAX))
-        throw InputError("skeleton: " + std::to_string(skeleton.nodes.size()) + " nodes, more than an int indexes");
-    if (skeleton.edges.size() > std::size_t(INT_MAX / 2))
-        throw InputError("skeleton: " + std::to_string(skeleton.edges.size()) + " edges, more than an int indexes");
+    CAVESIM_CHECK(skeleton.nodes.size() <= std::size_t(INT_MAX),
+                  "skeleton: " + std::to_string(skeleton.nodes.size()) + " nodes, more than an int indexes");
+    CAVESIM_CHECK(skeleton.edges.size() <= std::size_t(INT_MAX / 2),
+                  "skeleton: " + std::to_string(skeleton.edges.size()) + " edges, more than an int indexes");
     const int n = int(skeleton.nodes.size());
     for (std::size_t i = 0; i < skeleton.nodes.size(); ++i)
         for (double c : skeleton.nodes[i].position)
-            if (!std::isfinite(c))
-                throw InputError("skeleton: node " + std::to_string(i) + " has a non-finite position");
+            CAVESIM_CHECK(std::isfinite(c), "skeleton: node " + std::to_string(i) + " has a non-finite position");
     std::vector<std::uint64_t> keys;
     keys.reserve(skeleton.edges.size());
     for (std::size_t i = 0; i < skeleton.edges.size(); ++i) {
         const int a = skeleton.edges[i][0], b = skeleton.edges[i][1];
-        if (a < 0 || b < 0 || a >= n || b >= n)
-            throw InputError("skeleton: edge " + std::to_string(i) + " (" + std::to_string(a) + ", " +
-                             std::to_string(b) + ") refers to a node outside 0.." + std::to_string(n - 1));
-        if (a == b)
-            throw InputError("skeleton: edge " + std::to_string(i) + " is a self loop on node " + std::to_string(a));
+        CAVESIM_CHECK(a >= 0 && b >= 0 && a < n && b < n, "skeleton: edge " + std::to_string(i) + " (" +
+                                                              std::to_string(a) + ", " + std::to_string(b) +
+                                                              ") refers to a node outside 0.." + std::to_string(n - 1));
+        CAVESIM_CHECK(a != b, "skeleton: edge " + std::to_string(i) + " is a self loop on node " + std::to_string(a));
         keys.push_back((std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b)));
     }
     std::sort(keys.begin(), keys.end());
     const auto dup = std::adjacent_find(keys.begin(), keys.end());
-    if (dup != keys.end())
-        throw InputError("skeleton: edge (" + std::to_string(*dup >> 32) + ", " + std::to_string(*dup & 0xffffffffu) +
-                         ") is listed twice");
+    CAVESIM_CHECK(dup == keys.end(), "skeleton: edge (" + std::to_string(*dup >> 32) + ", " +
+                                         std::to_string(*dup & 0xffffffffu) + ") is listed twice");
 }
 
 std::vector<Branch> findBranches(const Skeleton& skeleton) {

@@ -92,22 +92,22 @@ struct MetricRange {
     double lo, hi;    ///< inclusive bounds
 };
 
-/// Throws cavesim::InputError unless every edge joins two distinct nodes that exist, no edge is
+/// Throws cavesim::InternalError unless every edge joins two distinct nodes that exist, no edge is
 /// listed twice (in either orientation) and every position is finite.
 void validateSkeleton(const Skeleton& skeleton);
 
 /// The branches of the skeleton, in a deterministic order: first those starting at the nodes of
 /// degree ≠ 2 (by node index, then by neighbour index), then the pure cycles (by lowest node index).
-/// @throw cavesim::InputError on an invalid skeleton (see `validateSkeleton`)
+/// @throw cavesim::InternalError on an invalid skeleton (see `validateSkeleton`)
 std::vector<Branch> findBranches(const Skeleton& skeleton);
 
 /// The reduced graph of the skeleton (conventions in the file comment).
-/// @throw cavesim::InputError on an invalid skeleton
+/// @throw cavesim::InternalError on an invalid skeleton
 ReducedGraph reduceSkeleton(const Skeleton& skeleton);
 
 /// All network metrics of the skeleton. Cost O(E log E) for the geometry plus O(n·m) for the
 /// all-pairs searches on the reduced graph (n nodes, m edges).
-/// @throw cavesim::InputError on an invalid skeleton
+/// @throw cavesim::InternalError on an invalid skeleton
 GraphMetrics computeGraphMetrics(const Skeleton& skeleton);
 
 /// {"k_mean", "r_k", "spl", "cpd", "h_or", "len_mean_m", "cv_len", "h_len", "tortuosity", the counts};

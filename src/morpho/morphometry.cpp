@@ -12,7 +12,7 @@
 #include <boost/geometry/geometries/point_xy.hpp>
 #include <boost/geometry/geometries/polygon.hpp>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "morpho/graph_metrics.h"
 
 namespace cavesim::morpho {
@@ -45,7 +45,8 @@ double indexValue(const Morphometry& m, const std::string& index) {
     if (index == "porosity_pct_opt") return m.porosity_pct_opt;
     if (index == "porosity_pct_rect") return m.porosity_pct_rect;
     if (index == "mean_width_m") return m.mean_width_m;
-    throw RuntimeError("morphometry: unknown index '" + index + "'");  // unreachable with kCategoryRanges
+    CAVESIM_CHECK(false, "morphometry: unknown index '" + index + "'");  // unreachable with kCategoryRanges
+    return 0.0;
 }
 
 /// a / b, or 0 when b is 0 (an empty cave).
@@ -77,16 +78,14 @@ double hullArea(const std::vector<int>& rowMin, const std::vector<int>& rowMax) 
 }  // namespace
 
 Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize) {
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        throw InputError("morphometry: the voxel size must be a positive number of metres, got " +
-                         std::to_string(voxelSize));
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "morphometry: the voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
     const Dims d = mask.dims;
-    if (d.nx < 0 || d.ny < 0 || d.nz < 0)
-        throw InputError("morphometry: negative mask dimensions " + std::to_string(d.nx) + "×" + std::to_string(d.ny) +
-                         "×" + std::to_string(d.nz));
-    if (mask.data.size() != d.count())
-        throw InputError("morphometry: the mask holds " + std::to_string(mask.data.size()) + " values for " +
-                         std::to_string(d.nx) + "×" + std::to_string(d.ny) + "×" + std::to_string(d.nz) + " voxels");
+    CAVESIM_CHECK(d.nx >= 0 && d.ny >= 0 && d.nz >= 0, "morphometry: negative mask dimensions " + std::to_string(d.nx) +
+                                                           "×" + std::to_string(d.ny) + "×" + std::to_string(d.nz));
+    CAVESIM_CHECK(mask.data.size() == d.count(), "morphometry: the mask holds " + std::to_string(mask.data.size()) +
+                                                     " values for " + std::to_string(d.nx) + "×" +
+                                                     std::to_string(d.ny) + "×" + std::to_string(d.nz) + " voxels");
     validateSkeleton(skeleton);
 
     Morphometry m;

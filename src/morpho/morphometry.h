@@ -59,7 +59,7 @@ struct Morphometry {
 /// @param mask       cave voxels (non-zero = cave), index space, z up
 /// @param skeleton   the cave's centreline, positions in metres (world space); only its edge lengths are used
 /// @param voxelSize  edge of a voxel, metres, > 0
-/// @throw cavesim::InputError on a non-positive or non-finite voxel size, a mask whose data does not
+/// @throw cavesim::InternalError on a non-positive or non-finite voxel size, a mask whose data does not
 ///        match its dims, or an invalid skeleton (see `validateSkeleton`)
 Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize);
 

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
+#include "core/check.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -902,13 +902,12 @@ std::vector<std::array<double, 3>> smoothPositions(const WorkGraph& g, const Pad
 
 void validate(const Grid3<std::uint8_t>& mask) {
     const Dims& d = mask.dims;
-    if (d.nx < 0 || d.ny < 0 || d.nz < 0)
-        throw InputError("skeleton: negative grid extent " + std::to_string(d.nx) + "×" + std::to_string(d.ny) + "×" +
-                         std::to_string(d.nz));
-    if (mask.data.size() != d.count())
-        throw InputError("skeleton: the mask holds " + std::to_string(mask.data.size()) + " values for a " +
-                         std::to_string(d.nx) + "×" + std::to_string(d.ny) + "×" + std::to_string(d.nz) + " grid (" +
-                         std::to_string(d.count()) + " expected)");
+    CAVESIM_CHECK(d.nx >= 0 && d.ny >= 0 && d.nz >= 0, "skeleton: negative grid extent " + std::to_string(d.nx) + "×" +
+                                                           std::to_string(d.ny) + "×" + std::to_string(d.nz));
+    CAVESIM_CHECK(mask.data.size() == d.count(), "skeleton: the mask holds " + std::to_string(mask.data.size()) +
+                                                     " values for a " + std::to_string(d.nx) + "×" +
+                                                     std::to_string(d.ny) + "×" + std::to_string(d.nz) + " grid (" +
+                                                     std::to_string(d.count()) + " expected)");
 }
 
 }  // namespace
@@ -930,20 +929,17 @@ Grid3<std::uint8_t> thinToCurveSkeleton(const Grid3<std::uint8_t>& mask, bool fi
 
 Skeleton skeletonize(const Grid3<std::uint8_t>& mask, double voxelSize, const SkeletonOptions& options) {
     validate(mask);
-    if (!(std::isfinite(voxelSize) && voxelSize > 0))
-        throw InputError("skeleton: voxel size must be a finite positive length in metres, got " +
-                         std::to_string(voxelSize));
-    if (!(std::isfinite(options.pruneFactor) && options.pruneFactor >= 0))
-        throw InputError("skeleton: pruneFactor must be finite and ≥ 0, got " + std::to_string(options.pruneFactor));
-    if (!(std::isfinite(options.minSpurLength) && options.minSpurLength >= 0))
-        throw InputError("skeleton: minSpurLength must be finite and ≥ 0 voxels, got " +
-                         std::to_string(options.minSpurLength));
-    if (options.smoothingIterations < 0)
-        throw InputError("skeleton: smoothingIterations must be ≥ 0, got " +
-                         std::to_string(options.smoothingIterations));
-    if (!(options.smoothingWeight > 0 && options.smoothingWeight <= 1))
-        throw InputError("skeleton: smoothingWeight must lie in (0, 1], got " +
-                         std::to_string(options.smoothingWeight));
+    CAVESIM_CHECK(std::isfinite(voxelSize) && voxelSize > 0,
+                  "skeleton: voxel size must be a finite positive length in metres, got " + std::to_string(voxelSize));
+    CAVESIM_CHECK(std::isfinite(options.pruneFactor) && options.pruneFactor >= 0,
+                  "skeleton: pruneFactor must be finite and ≥ 0, got " + std::to_string(options.pruneFactor));
+    CAVESIM_CHECK(
+        std::isfinite(options.minSpurLength) && options.minSpurLength >= 0,
+        "skeleton: minSpurLength must be finite and ≥ 0 voxels, got " + std::to_string(options.minSpurLength));
+    CAVESIM_CHECK(options.smoothingIterations >= 0,
+                  "skeleton: smoothingIterations must be ≥ 0, got " + std::to_string(options.smoothingIterations));
+    CAVESIM_CHECK(options.smoothingWeight > 0 && options.smoothingWeight <= 1,
+                  "skeleton: smoothingWeight must lie in (0, 1], got " + std::to_string(options.smoothingWeight));
 
     Skeleton result;
     Padded cave = padMask(mask);

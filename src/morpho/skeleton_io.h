@@ -30,7 +30,7 @@ namespace cavesim::morpho {
 /// @param voxelSize  voxel edge length in metres (> 0), recorded as `voxel_size_m`
 /// @param grid       the grid the skeleton was computed on (index space), recorded as `grid`; node
 ///                   voxels are decoded with it
-/// @throw InputError if the skeleton is malformed (edge out of range, a ≥ b, non-finite position
+/// @throw InternalError if the skeleton is malformed (edge out of range, a ≥ b, non-finite position
 ///        or radius, a voxel outside `grid`) or `voxelSize` is not finite and positive
 /// @throw RuntimeError if `dir` is not a directory or a file cannot be written or renamed
 void writeSkeletonFiles(const Skeleton& skeleton, const std::string& dir, double voxelSize, const Dims& grid);

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "render/colormap.h"
 
 namespace cavesim::render {
@@ -187,10 +187,12 @@ int footerRowY(const Frame& frame, int row) {
 }
 
 Frame makeFrame(View view, const Dims& dims, double voxelSize, int width, int footerRows) {
-    if (width < 64) throw InputError("picture width must be at least 64 pixels, got " + std::to_string(width));
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        throw InputError("voxel size must be a positive number of metres");
-    if (dims.nx <= 0 || dims.ny <= 0 || dims.nz <= 0) throw InputError("cannot frame an empty block");
+    CAVESIM_CHECK(width >= 64, "picture width must be at least 64 pixels, got " + std::to_string(width));
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
+    CAVESIM_CHECK(dims.nx > 0 && dims.ny > 0 && dims.nz > 0, "cannot frame an empty block " + std::to_string(dims.nx) +
+                                                                 "×" + std::to_string(dims.ny) + "×" +
+                                                                 std::to_string(dims.nz));
     Frame f;
     f.view = view;
     f.width = width;

@@ -68,7 +68,7 @@ struct Frame {
 /// Frames the block of `dims` voxels of edge `voxelSize` metres for `view` in a picture
 /// `width` pixels wide with `footerRows` legend rows. The picture's height follows from the
 /// block's proportions (the viewport is at most 1.25 × width tall).
-/// @throw InputError if width < 64, voxelSize <= 0 or dims has a zero extent
+/// @throw InternalError if width < 64, voxelSize <= 0 or dims has a zero extent
 Frame makeFrame(View view, const Dims& dims, double voxelSize, int width, int footerRows = 2);
 
 /// Height in pixels of one footer row.

@@ -432,13 +432,13 @@ TEST(GraphMetrics, JsonHasTheDesignKeysAndNullForUndefined) {
 }
 
 TEST(GraphMetrics, BadSkeletonThrows) {
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 2}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{-1, 1}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{1, 1}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 1}, {1, 0}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {std::nan(""), 0, 0}}, {{0, 1}})), InputError);
-    EXPECT_THROW(findBranches(makeSkeleton({{0, 0, 0}}, {{0, 1}})), InputError);
-    EXPECT_THROW(reduceSkeleton(makeSkeleton({{0, 0, 0}}, {{0, 0}})), InputError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 2}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{-1, 1}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{1, 1}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 1}, {1, 0}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {std::nan(""), 0, 0}}, {{0, 1}})), InternalError);
+    EXPECT_THROW(findBranches(makeSkeleton({{0, 0, 0}}, {{0, 1}})), InternalError);
+    EXPECT_THROW(reduceSkeleton(makeSkeleton({{0, 0, 0}}, {{0, 0}})), InternalError);
 }
 
 TEST(GraphMetrics, RandomGraphsGiveMetricsInTheirRanges) {

@@ -91,9 +91,9 @@ TEST(Frame, TallBlocksAreCappedAndCentred) {
 }
 
 TEST(Frame, RejectsBadInput) {
-    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, 1.0, 10), InputError);
-    EXPECT_THROW(makeFrame(View::kPlan, {10, 0, 10}, 1.0, 512), InputError);
-    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, -1.0, 512), InputError);
+    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, 1.0, 10), InternalError);
+    EXPECT_THROW(makeFrame(View::kPlan, {10, 0, 10}, 1.0, 512), InternalError);
+    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, -1.0, 512), InternalError);
 }
 
 TEST(Cells, FillCellsPaintsEachCellWhereItProjects) {
