@@ -54,7 +54,7 @@ std::vector<std::size_t> zoneBoundary(const Grid3<std::int32_t>& labels, const s
 }
 
 std::vector<std::size_t> chooseClusterCentres(const Dims& dims, const std::vector<std::size_t>& candidates, int count,
-                                              const std::vector<std::array<double, 3>>& aim, std::mt19937_64& rng) {
+                                              const std::vector<Vec3d>& aim, std::mt19937_64& rng) {
     CAVESIM_CHECK(count >= 1, "chooseClusterCentres: count must be at least 1, got " + std::to_string(count));
     std::vector<std::size_t> centres;
     if (candidates.empty()) return centres;

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/grid.h"
+#include "core/vec3.h"
 #include "sim/cave.h"
 #include "sim/options.h"
 
@@ -80,7 +81,7 @@ struct MeshStats {
 /// A triangle mesh as plain arrays. Vertices in metres; triangles index `vertices`,
 /// counter-clockwise seen from outside (right-hand normal points out).
 struct TriangleMesh {
-    std::vector<std::array<double, 3>> vertices;
+    std::vector<Vec3d> vertices;
     std::vector<std::array<int, 3>> triangles;
 };
 

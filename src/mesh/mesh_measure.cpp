@@ -25,17 +25,6 @@ struct UnionFind {
     }
 };
 
-using Vec = std::array<double, 3>;
-Vec sub(const Vec& a, const Vec& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-Vec cross(const Vec& a, const Vec& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec& a, const Vec& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 }  // namespace
 
 MeshStats measureMesh(const TriangleMesh& mesh) {
@@ -50,10 +39,10 @@ MeshStats measureMesh(const TriangleMesh& mesh) {
 
     // Area and signed volume (sum of signed tetrahedra against the origin).
     for (const auto& t : mesh.triangles) {
-        const Vec& a = mesh.vertices[t[0]];
-        const Vec& b = mesh.vertices[t[1]];
-        const Vec& c = mesh.vertices[t[2]];
-        const Vec n = cross(sub(b, a), sub(c, a));
+        const Vec3d& a = mesh.vertices[t[0]];
+        const Vec3d& b = mesh.vertices[t[1]];
+        const Vec3d& c = mesh.vertices[t[2]];
+        const Vec3d n = cross(sub(b, a), sub(c, a));
         s.areaM2 += 0.5 * std::sqrt(dot(n, n));
         s.volumeM3 += dot(a, cross(b, c)) / 6.0;
     }

@@ -34,10 +34,7 @@ constexpr std::array<MetricRange, 9> kRealCaveRanges{{
 }};
 
 double distance(const SkeletonNode& a, const SkeletonNode& b) {
-    const double dx = b.position[0] - a.position[0];
-    const double dy = b.position[1] - a.position[1];
-    const double dz = b.position[2] - a.position[2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
+    return cavesim::distance(a.position, b.position);
 }
 
 /// Compressed adjacency of an undirected simple graph; each node's neighbours sorted by index.

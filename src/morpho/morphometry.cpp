@@ -93,8 +93,7 @@ Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& 
     for (const auto& e : skeleton.edges) {
         const auto& a = skeleton.nodes[std::size_t(e[0])].position;
         const auto& b = skeleton.nodes[std::size_t(e[1])].position;
-        m.length_m +=
-            std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+        m.length_m += distance(a, b);
     }
 
     // Plan (columns), per-row extent, bounding box and vertical extent of the cave voxels.

@@ -18,9 +18,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double distance(const SkeletonNode& a, const SkeletonNode& b) {
-    const double dx = a.position[0] - b.position[0], dy = a.position[1] - b.position[1],
-                 dz = a.position[2] - b.position[2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
+    return cavesim::distance(a.position, b.position);
 }
 
 struct Adjacency {
