@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -22,16 +21,13 @@
 #include <vector>
 
 #include "core/check.h"
+#include "core/timer.h"
 
 namespace cavesim::mesh::detail {
 namespace {
 
 using openvdb::Coord;
 using openvdb::FloatGrid;
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 openvdb::math::Transform::Ptr fineTransform(double fineVoxel) {
     auto xf = openvdb::math::Transform::createLinearTransform(fineVoxel);
@@ -354,7 +350,7 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
     const double fine = voxelSize / sub;
     const int fineHalfWidth = options.halfWidth;
     out.voxelVolume = double(caveVoxels) * voxelSize * voxelSize * voxelSize;
-    auto t0 = Clock::now();
+    Stopwatch watch;
 
     // 1. The cubes: the signed distance to the cave voxels' faces at the simulation resolution,
     //    refined `sub` times by trilinear interpolation.
@@ -371,8 +367,7 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
     coarse->setTransform(fineTransform(voxelSize));
     FloatGrid::Ptr phi = refine(*coarse, sub, fine, float(fineHalfWidth * fine));
     coarse.reset();
-    out.secondsCubes = since(t0);
-    t0 = Clock::now();
+    out.secondsCubes = watch.lap();
 
     // 2. United with the net (capsules of radius tubeRadius, at least 0.9 level-set voxels so
     //    that the level-set samples inside a capsule are always face-connected).
@@ -382,8 +377,7 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
         FloatGrid::Ptr copy = capsules->deepCopy();
         openvdb::tools::csgUnion(*phi, *copy);
     }
-    out.secondsCapsules = since(t0);
-    t0 = Clock::now();
+    out.secondsCapsules = watch.lap();
 
     // 3. Mean-curvature flow rounds the voxel staircase; the net is unioned back after every
     //    step, so the flow cannot thin a channel below the net or pinch the cave apart.
@@ -397,14 +391,13 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
             unionInPlace(*phi, *capsules);
         }
     }
-    out.secondsSmoothing = since(t0);
-    t0 = Clock::now();
+    out.secondsSmoothing = watch.lap();
 
     // 4. Volume-preserving outward offset, applied as the iso value (keeping it well inside the
     //    narrow band: meshing needs a voxel to spare).
     out.maxIsoValue = std::min(options.maxVolumeOffset * voxelSize, (fineHalfWidth - 2) * fine);
     if (options.preserveVolume) out.isoValue = volumeOffset(*phi, out.voxelVolume, out.maxIsoValue);
-    out.secondsVolume = since(t0);
+    out.secondsVolume = watch.lap();
     out.grid = phi;
     return out;
 }

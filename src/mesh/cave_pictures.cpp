@@ -9,12 +9,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 
 #include "core/check.h"
+#include "core/timer.h"
 #include "mesh/cave_level_set.h"
 #include "render/colormap.h"
 #include "render/png_io.h"
@@ -383,13 +383,13 @@ void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width
 
 MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir,
                                    int width, const MeshOptions& options) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     checkWidth(width);
     detail::validateMeshOptions(options, cave.voxelSize);
     const detail::CaveSurface surface = detail::buildCaveSurface(cave.mask, cave.voxelSize, options, true);
     MeshStats stats = detail::writeMeshOutputs(surface.mesh, cave.mask, cave.voxelSize, dir, options);
     writeViews(renderViews(cave, width, surface.levelSet), imagesDir);
-    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats.seconds = watch.seconds();
     return stats;
 }
 
