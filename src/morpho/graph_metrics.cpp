@@ -21,18 +21,6 @@ constexpr double kPi = 3.14159265358979323846;
 /// Fraction of a histogram bin below an edge that still counts in the upper bin (round-off guard).
 constexpr double kBinEdgeTolerance = 1e-9;
 
-constexpr std::array<MetricRange, 9> kRealCaveRanges{{
-    {"k_mean", 1.75, 2.57},
-    {"r_k", -0.56, -0.15},
-    {"spl", 2.32, 55.72},
-    {"cpd", 0.02, 0.57},
-    {"h_or", 0.75, 1.00},
-    {"len_mean_m", 8.46, 331.74},
-    {"cv_len", 0.90, 2.56},
-    {"h_len", 0.07, 0.67},
-    {"tortuosity", 1.12, 1.54},
-}};
-
 double distance(const SkeletonNode& a, const SkeletonNode& b) {
     return cavesim::distance(a.position, b.position);
 }
@@ -476,10 +464,6 @@ nlohmann::json toJson(const GraphMetrics& m) {
     j["reduced_nodes"] = m.reduced_nodes;
     j["reduced_edges"] = m.reduced_edges;
     return j;
-}
-
-const std::array<MetricRange, 9>& realCaveRanges() {
-    return kRealCaveRanges;
 }
 
 }  // namespace cavesim::morpho

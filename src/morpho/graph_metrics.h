@@ -48,6 +48,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "morpho/reference_ranges.h"
 #include "morpho/skeleton_graph.h"
 
 namespace cavesim::morpho {
@@ -86,12 +87,6 @@ struct ReducedGraph {
     std::vector<std::array<int, 2>> edges;  ///< pairs of reduced-node indices (positions in `nodes`), a < b
 };
 
-/// A range of values observed on real caves, for the report.
-struct MetricRange {
-    const char* key;  ///< GraphMetrics / report.json name
-    double lo, hi;    ///< inclusive bounds
-};
-
 /// Throws cavesim::InternalError unless every edge joins two distinct nodes that exist, no edge is
 /// listed twice (in either orientation) and every position is finite.
 void validateSkeleton(const Skeleton& skeleton);
@@ -113,9 +108,5 @@ GraphMetrics computeGraphMetrics(const Skeleton& skeleton);
 /// {"k_mean", "r_k", "spl", "cpd", "h_or", "len_mean_m", "cv_len", "h_len", "tortuosity", the counts};
 /// undefined metrics are null.
 nlohmann::json toJson(const GraphMetrics& m);
-
-/// The ranges of the metrics over 34 surveyed caves (Collon et al. 2017, 2021, as quoted by DESIGN §5
-/// from Table 3 of the KarstNSim paper), in the order of `toJson`'s metric keys.
-const std::array<MetricRange, 9>& realCaveRanges();
 
 }  // namespace cavesim::morpho

@@ -18,25 +18,6 @@
 namespace cavesim::morpho {
 namespace {
 
-constexpr std::array<CategoryRange, 14> kCategoryRanges{{
-    // Paper Table 2: Klimchouk (2006), optimised cave field.
-    {"unconfined", "network_density_opt", 2, 0.012, 0.023},
-    {"unconfined", "areal_coverage_pct_opt", 2, 3.77, 8.55},
-    {"unconfined", "porosity_pct_opt", 2, 0.15, 0.77},
-    {"unconfined", "mean_width_m", 2, 2.52, 4.56},
-    {"confined", "network_density_opt", 2, 0.049, 0.406},
-    {"confined", "areal_coverage_pct_opt", 2, 13.56, 58.51},
-    {"confined", "porosity_pct_opt", 2, 1.1, 12.0},
-    {"confined", "mean_width_m", 2, 0.65, 4.53},
-    // Paper Table 3: Frumkin & Fischhendler (2005), rectangular cave field.
-    {"chamber", "network_density_rect", 3, 0.01, 0.25},
-    {"chamber", "areal_coverage_pct_rect", 3, 20.0, 80.0},
-    {"chamber", "mean_width_m", 3, 2.0, 100.0},
-    {"confined", "network_density_rect", 3, 0.07, 0.35},
-    {"confined", "areal_coverage_pct_rect", 3, 10.0, 40.0},
-    {"confined", "mean_width_m", 3, 0.9, 8.0},
-}};
-
 double indexValue(const Morphometry& m, const std::string& index) {
     if (index == "network_density_opt") return m.network_density_opt;
     if (index == "network_density_rect") return m.network_density_rect;
@@ -45,7 +26,7 @@ double indexValue(const Morphometry& m, const std::string& index) {
     if (index == "porosity_pct_opt") return m.porosity_pct_opt;
     if (index == "porosity_pct_rect") return m.porosity_pct_rect;
     if (index == "mean_width_m") return m.mean_width_m;
-    CAVESIM_CHECK(false, "morphometry: unknown index '" + index + "'");  // unreachable with kCategoryRanges
+    CAVESIM_CHECK(false, "morphometry: unknown index '" + index + "'");  // unreachable with categoryRanges()
     return 0.0;
 }
 
@@ -168,15 +149,11 @@ nlohmann::json toJson(const Morphometry& m) {
     };
 }
 
-const std::array<CategoryRange, 14>& categoryRanges() {
-    return kCategoryRanges;
-}
-
 CategoryVotes categoryVotes(const Morphometry& m) {
     CategoryVotes v;
-    for (const auto& r : kCategoryRanges) {
-        const double x = indexValue(m, r.index);
-        if (!(x >= r.lo && x <= r.hi)) continue;
+    for (const ReferenceRange& r : categoryRanges()) {
+        const double x = indexValue(m, r.key);
+        if (!(x >= r.low && x <= r.high)) continue;
         const std::string c = r.category;
         if (c == "unconfined")
             ++v.unconfined;

@@ -30,6 +30,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/grid.h"
+#include "morpho/reference_ranges.h"
 #include "morpho/skeleton_graph.h"
 
 namespace cavesim::morpho {
@@ -66,19 +67,6 @@ Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& 
 /// The DESIGN §4 keys plus "vertical_range_m", "cave_voxels", "plan_cells" and
 /// "field_opt_method" ("convex_hull").
 nlohmann::json toJson(const Morphometry& m);
-
-/// One value range of a cave category: paper Table 2 (Klimchouk 2006, optimised field) or
-/// Table 3 (Frumkin & Fischhendler 2005, rectangular field).
-struct CategoryRange {
-    const char* category;  ///< "unconfined", "confined" or "chamber"
-    const char* index;     ///< Morphometry member compared: network_density_opt, areal_coverage_pct_rect, …
-    int table;             ///< 2 or 3 (paper table)
-    double lo, hi;         ///< inclusive bounds, in the index's unit
-};
-
-/// The 14 ranges of the paper's Tables 2 and 3 (Table 2: 4 indices × unconfined/confined on the
-/// optimised field; Table 3: 3 indices × chamber/confined on the rectangular field).
-const std::array<CategoryRange, 14>& categoryRanges();
 
 /// How many of the category's ranges (`categoryRanges`) hold the cave's value.
 struct CategoryVotes {

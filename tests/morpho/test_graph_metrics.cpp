@@ -424,7 +424,7 @@ TEST(GraphMetrics, JsonHasTheDesignKeysAndNullForUndefined) {
     std::vector<std::string> keys;
     for (const auto& r : realCaveRanges()) {
         keys.push_back(r.key);
-        EXPECT_LT(r.lo, r.hi);
+        EXPECT_LT(r.low, r.high);
         EXPECT_TRUE(j.contains(r.key));
     }
     EXPECT_EQ(keys, (std::vector<std::string>{"k_mean", "r_k", "spl", "cpd", "h_or", "len_mean_m", "cv_len", "h_len",
