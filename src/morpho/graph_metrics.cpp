@@ -1,4 +1,4 @@
-// Network metrics of the centreline graph (DESIGN §5, Collon et al. 2017). Conventions: graph_metrics.h.
+// Network metrics of the centreline graph (Collon et al. 2017). Conventions: graph_metrics.h.
 #include "morpho/graph_metrics.h"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Morphometric indices of the cave (paper §4.2, DESIGN §5). Conventions: morphometry.h.
+// Morphometric indices of the cave (paper §4.2). Conventions: morphometry.h.
 #include "morpho/morphometry.h"
 
 #include <algorithm>

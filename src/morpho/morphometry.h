@@ -1,6 +1,6 @@
 /// @file morphometry.h
-/// @brief Morphometric indices of the cave (paper §4.2; Klimchouk 2006, Frumkin & Fischhendler 2005;
-/// DESIGN §5): length, plan area, volume, cave field A_field and block V_block, network density,
+/// @brief Morphometric indices of the cave (paper §4.2; Klimchouk 2006, Frumkin & Fischhendler 2005):
+/// length, plan area, volume, cave field A_field and block V_block, network density,
 /// areal coverage, porosity and mean passage width W, for a rectangular and an optimised field,
 /// and the cave category these indices point to (paper Tables 2 and 3).
 ///
@@ -35,7 +35,7 @@
 
 namespace cavesim::morpho {
 
-/// The `report.json` "morphometry" values (DESIGN §4 names) and supporting values.
+/// The `report.json` "morphometry" values (member names are the JSON keys) and supporting values.
 struct Morphometry {
     double length_m = 0.0;                 ///< total skeleton length, m
     double area_m2 = 0.0;                  ///< plan area, m²
@@ -64,7 +64,7 @@ struct Morphometry {
 ///        match its dims, or an invalid skeleton (see `validateSkeleton`)
 Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize);
 
-/// The DESIGN §4 keys plus "vertical_range_m", "cave_voxels", "plan_cells" and
+/// The index keys (the member names above) plus "vertical_range_m", "cave_voxels", "plan_cells" and
 /// "field_opt_method" ("convex_hull").
 nlohmann::json toJson(const Morphometry& m);
 

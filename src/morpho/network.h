@@ -32,7 +32,7 @@ struct NetworkInput {
 
 struct NetworkOptions {
     /// A phreatic loop: along a flow path, a descent followed by a rise of at least this many
-    /// voxels (index units, z). DESIGN §2: 2.
+    /// voxels (index units, z); docs/network-definitions.md, "Phreatic loops": 2.
     double loopRise = 2;
     /// How far a terminal (source or sink) may be from the skeleton, measured through cave
     /// voxels (26-connected steps, index units), for the two to be joined.

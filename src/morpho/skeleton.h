@@ -1,5 +1,6 @@
 /// @file skeleton.h
-/// @brief The cave's centreline (curve skeleton) as a graph: DESIGN §5, issue 6.
+/// @brief The cave's centreline (curve skeleton) as a graph, the base of the network counts
+/// (docs/network-definitions.md) and of the measures of morphometry.h and graph_metrics.h.
 ///
 /// `skeletonize` turns the cave voxels into the `Skeleton` graph of skeleton_graph.h in five steps:
 ///

@@ -1,5 +1,5 @@
 /// @file skeleton_io.h
-/// @brief Skeleton files of a run (DESIGN §4): `skeleton.json` and karstnet's
+/// @brief Skeleton files of a run (README.md, outputs): `skeleton.json` and karstnet's
 /// `skeleton_nodes.dat` / `skeleton_links.dat`.
 ///
 /// `skeleton.json` (metres, world space; node ids 0-based):

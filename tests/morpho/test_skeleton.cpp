@@ -1,4 +1,4 @@
-// The cave skeleton (issue 6, DESIGN §5): thinning keeps topology, the graph has the right shape,
+// The cave skeleton (issue 6): thinning keeps topology, the graph has the right shape,
 // lengths and radii, and the files read back.
 #include <gtest/gtest.h>
 
