@@ -25,4 +25,13 @@ public:
     using Error::Error;
 };
 
+/// A broken contract inside the library: a caller passed arguments that violate a documented
+/// precondition, or an invariant that the code itself maintains does not hold. It is a bug, never
+/// the user's fault; the command exits with code 1 and reports "internal error". Thrown by
+/// `CAVESIM_CHECK` (core/check.h), whose message names file:line and the failed condition.
+class InternalError : public Error {
+public:
+    using Error::Error;
+};
+
 }  // namespace cavesim

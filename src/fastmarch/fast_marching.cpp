@@ -9,12 +9,13 @@
 #include <functional>
 #include <limits>
 #include <queue>
-#include <stdexcept>
 #include <string>
 #include <utility>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#include "core/check.h"
 
 namespace cavesim::fastmarch {
 namespace {
@@ -57,8 +58,8 @@ double fullUpdate(const Dims& d, const Index3& p, const Get& get, double f, Sten
 /// Label-correcting sweep shared by `solve` and `decrease`: pops the smallest tentative value and
 /// re-evaluates its neighbours: the Godunov update of each face neighbour from the current values
 /// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
-/// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel settles once when values only
-/// fall); it also repairs a field whose slowness fell locally without touching the rest.
+/// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel
+/// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
 std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
                   Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched) {
     std::size_t changes = 0;
@@ -141,7 +142,7 @@ double upwindUpdate(double ax, double ay, double az, double f) {
 
 void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const std::vector<Seed>& seeds, double cap,
                          Stencil stencil) {
-    if (!(slowness.dims == dims)) throw std::invalid_argument("EikonalField::solve: slowness grid has other dims");
+    CAVESIM_CHECK(slowness.dims == dims, "EikonalField::solve: slowness grid has other dims");
     dims_ = dims;
     cap_ = cap;
     stencil_ = stencil;
@@ -149,7 +150,8 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     seed_.assign(dims.count(), 0);
     MinHeap heap;
     for (const Seed& s : seeds) {
-        if (s.voxel >= dims.count()) throw std::invalid_argument("EikonalField::solve: seed outside the grid");
+        CAVESIM_CHECK(s.voxel < dims.count(), "EikonalField::solve: seed voxel " + std::to_string(s.voxel) +
+                                                  " outside a grid of " + std::to_string(dims.count()));
         const double v = std::min(cap, s.value);
         if (!seed_[s.voxel] || v < value_[s.voxel]) value_[s.voxel] = v;
         seed_[s.voxel] = 1;
@@ -181,14 +183,14 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
 
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
                               const std::vector<double>& labelSpeed) {
-    if (slowness && !(slowness->dims == dims))
-        throw std::invalid_argument("marchLabelled: slowness grid has other dims");
+    CAVESIM_CHECK(!slowness || slowness->dims == dims, "marchLabelled: slowness grid has other dims");
     for (double s : labelSpeed)
-        if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("marchLabelled: label speeds must be > 0");
+        CAVESIM_CHECK(s > 0 && std::isfinite(s), "marchLabelled: label speeds must be > 0, got " + std::to_string(s));
     for (const Seed& s : seeds) {
-        if (s.voxel >= dims.count()) throw std::invalid_argument("marchLabelled: seed outside the grid");
-        if (s.label < 0 || std::size_t(s.label) >= labelSpeed.size())
-            throw std::invalid_argument("marchLabelled: seed label " + std::to_string(s.label) + " has no speed");
+        CAVESIM_CHECK(s.voxel < dims.count(), "marchLabelled: seed voxel " + std::to_string(s.voxel) +
+                                                  " outside a grid of " + std::to_string(dims.count()));
+        CAVESIM_CHECK(s.label >= 0 && std::size_t(s.label) < labelSpeed.size(),
+                      "marchLabelled: seed label " + std::to_string(s.label) + " has no speed");
     }
     LabelledArrival out{Grid3<double>(dims, kInf), Grid3<std::int32_t>(dims, -1)};
     // One front per label through the whole grid, then the earliest arrival wins (ties: lower

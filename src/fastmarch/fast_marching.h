@@ -46,7 +46,7 @@ struct LabelledArrival {
 /// @param slowness    per-voxel slowness, > 0, or +inf for impassable; nullptr = 1 everywhere
 /// @param seeds       starting voxels; a voxel listed twice keeps the smaller value (lower label on ties)
 /// @param labelSpeed  speed factor of each label, > 0
-/// @throw std::invalid_argument on a seed outside the grid, a negative label or a label without speed
+/// @throw cavesim::InternalError on a seed outside the grid, a negative label or a label without speed
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
                               const std::vector<double>& labelSpeed);
 

@@ -10,6 +10,8 @@
 #include <string>
 #include <utility>
 
+#include "core/check.h"
+
 namespace cavesim::flownet {
 namespace {
 
@@ -45,9 +47,8 @@ std::vector<NodeId> nodesOf(const std::vector<std::size_t>& voxels, const std::v
     out.reserve(list.size());
     for (std::size_t v : list) {
         const auto it = std::lower_bound(voxels.begin(), voxels.end(), v);
-        if (it == voxels.end() || *it != v)
-            throw std::invalid_argument(std::string("buildFlowNetwork: a ") + what + " voxel (" + std::to_string(v) +
-                                        ") is not one of the network's voxels");
+        CAVESIM_CHECK(it != voxels.end() && *it == v, std::string("buildFlowNetwork: a ") + what + " voxel (" +
+                                                          std::to_string(v) + ") is not one of the network's voxels");
         out.push_back(NodeId(it - voxels.begin()));
     }
     std::sort(out.begin(), out.end());
@@ -65,7 +66,8 @@ void pairReverses(FlowNetwork& net) {
             if (b < a) continue;  // paired from the lower end
             ArcId r = net.arcBegin[b];
             while (r < net.arcBegin[b + 1] && net.arcTarget[r] != NodeId(a)) ++r;
-            if (r == net.arcBegin[b + 1]) throw std::logic_error("flow network: an arc without its reverse");
+            CAVESIM_CHECK(r != net.arcBegin[b + 1],
+                          "flow network: the arc " + std::to_string(a) + "→" + std::to_string(b) + " has no reverse");
             net.arcReverse[e] = r;
             net.arcReverse[r] = e;
         }
@@ -90,18 +92,22 @@ std::size_t FlowNetwork::bytes() const {
 FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std::size_t>& voxels,
                              const std::vector<std::size_t>& sources, const std::vector<std::size_t>& protosinks,
                              const FlowNetworkOptions& options) {
-    if (!(options.capacityExponent > 0 && options.capacityExponent <= 8))
-        throw std::invalid_argument("buildFlowNetwork: capacity exponent must lie in (0, 8]");
-    if (!(options.resistanceJitter >= 0 && options.resistanceJitter <= 1) || !(options.protosinkShare >= 0))
-        throw std::invalid_argument("buildFlowNetwork: resistance jitter must lie in [0, 1], protosink share >= 0");
+    CAVESIM_CHECK(
+        options.capacityExponent > 0 && options.capacityExponent <= 8,
+        "buildFlowNetwork: capacity exponent must lie in (0, 8], got " + std::to_string(options.capacityExponent));
+    CAVESIM_CHECK(options.resistanceJitter >= 0 && options.resistanceJitter <= 1 && options.protosinkShare >= 0,
+                  "buildFlowNetwork: resistance jitter must lie in [0, 1] (got " +
+                      std::to_string(options.resistanceJitter) + "), protosink share >= 0 (got " +
+                      std::to_string(options.protosinkShare) + ")");
     const std::size_t n = voxels.size();
     if (n > options.maxNodes || n > kMaxVoxelNodes)
         throw std::length_error("buildFlowNetwork: " + std::to_string(n) + " voxels exceed the limit of " +
                                 std::to_string(std::min(options.maxNodes, kMaxVoxelNodes)) + " nodes");
     const Dims& d = porosity.dims;
     for (std::size_t i = 0; i < n; ++i) {
-        if (voxels[i] >= porosity.size() || (i > 0 && voxels[i] <= voxels[i - 1]))
-            throw std::invalid_argument("buildFlowNetwork: voxels must be strictly increasing indices into the grid");
+        CAVESIM_CHECK(voxels[i] < porosity.size() && (i == 0 || voxels[i] > voxels[i - 1]),
+                      "buildFlowNetwork: voxels must be strictly increasing indices into the grid (entry " +
+                          std::to_string(i) + " is " + std::to_string(voxels[i]) + ")");
     }
 
     FlowNetwork net;
@@ -114,9 +120,8 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
     std::vector<std::uint8_t> role(n, kPlain);
     for (NodeId s : net.sources) role[s] = kSourceRole;
     for (NodeId p : net.protosinks) {
-        if (role[p] == kSourceRole)
-            throw std::invalid_argument("buildFlowNetwork: voxel " + std::to_string(voxels[p]) +
-                                        " is both a source and a protosink");
+        CAVESIM_CHECK(role[p] != kSourceRole,
+                      "buildFlowNetwork: voxel " + std::to_string(voxels[p]) + " is both a source and a protosink");
         role[p] = kProtosinkRole;
     }
 
@@ -223,23 +228,25 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
 
 FlowNetwork flowNetworkFromArcs(std::size_t nodes, const std::vector<ArcSpec>& arcs, const std::vector<NodeId>& sources,
                                 const std::vector<NodeId>& protosinks) {
-    if (nodes > kMaxVoxelNodes) throw std::invalid_argument("flowNetworkFromArcs: too many nodes");
+    CAVESIM_CHECK(nodes <= kMaxVoxelNodes, "flowNetworkFromArcs: too many nodes (" + std::to_string(nodes) + ")");
     std::map<std::pair<NodeId, NodeId>, std::pair<double, double>> cap;  // capacity, resistance
     for (const ArcSpec& a : arcs) {
-        if (a.from >= nodes || a.to >= nodes) throw std::invalid_argument("flowNetworkFromArcs: node id out of range");
-        if (a.from == a.to) throw std::invalid_argument("flowNetworkFromArcs: self-loop");
-        if (!(a.capacity >= 0) || !std::isfinite(a.capacity))
-            throw std::invalid_argument("flowNetworkFromArcs: capacity must be finite and >= 0");
-        if (!(a.resistance >= 0) || !std::isfinite(a.resistance))
-            throw std::invalid_argument("flowNetworkFromArcs: resistance must be finite and >= 0");
-        if (!cap.emplace(std::make_pair(a.from, a.to), std::make_pair(a.capacity, a.resistance)).second)
-            throw std::invalid_argument("flowNetworkFromArcs: repeated arc");
+        const std::string arc = std::to_string(a.from) + "→" + std::to_string(a.to);
+        CAVESIM_CHECK(a.from < nodes && a.to < nodes, "flowNetworkFromArcs: arc " + arc + ": node id out of range");
+        CAVESIM_CHECK(a.from != a.to, "flowNetworkFromArcs: arc " + arc + " is a self-loop");
+        CAVESIM_CHECK(a.capacity >= 0 && std::isfinite(a.capacity),
+                      "flowNetworkFromArcs: arc " + arc + ": capacity must be finite and >= 0");
+        CAVESIM_CHECK(a.resistance >= 0 && std::isfinite(a.resistance),
+                      "flowNetworkFromArcs: arc " + arc + ": resistance must be finite and >= 0");
+        CAVESIM_CHECK(cap.emplace(std::make_pair(a.from, a.to), std::make_pair(a.capacity, a.resistance)).second,
+                      "flowNetworkFromArcs: repeated arc " + arc);
     }
     // Every arc with its reverse (capacity 0 if not given, same resistance).
     for (const ArcSpec& a : arcs) {
         const auto it = cap.emplace(std::make_pair(a.to, a.from), std::make_pair(0.0, a.resistance)).first;
-        if (it->second.second != a.resistance)
-            throw std::invalid_argument("flowNetworkFromArcs: an arc and its reverse have different resistances");
+        CAVESIM_CHECK(it->second.second == a.resistance, "flowNetworkFromArcs: the arc " + std::to_string(a.from) +
+                                                             "→" + std::to_string(a.to) +
+                                                             " and its reverse have different resistances");
     }
 
     FlowNetwork net;
@@ -252,7 +259,7 @@ FlowNetwork flowNetworkFromArcs(std::size_t nodes, const std::vector<ArcSpec>& a
         std::sort(list->begin(), list->end());
         list->erase(std::unique(list->begin(), list->end()), list->end());
         for (NodeId v : *list)
-            if (v >= nodes) throw std::invalid_argument("flowNetworkFromArcs: terminal node id out of range");
+            CAVESIM_CHECK(v < nodes, "flowNetworkFromArcs: terminal node id " + std::to_string(v) + " out of range");
     }
     double total = 1.0;
     for (const auto& kv : cap) total += kv.second.first;

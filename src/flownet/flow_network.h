@@ -90,7 +90,7 @@ struct FlowNetworkOptions {
 /// @param voxels      the network's voxels as linear indices into `porosity`, strictly increasing
 /// @param sources     voxels fed by the super-source: a subset of `voxels`, any order
 /// @param protosinks  voxels drained by the super-sink: a subset of `voxels`, disjoint from `sources`
-/// @throw std::invalid_argument if a source or protosink is not in `voxels`, if the two overlap,
+/// @throw cavesim::InternalError if a source or protosink is not in `voxels`, if the two overlap,
 ///        if `voxels` is not strictly increasing or out of the grid, or if an option is out of range
 /// @throw std::length_error if `voxels.size()` exceeds `options.maxNodes` or the arc count overflows
 FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std::size_t>& voxels,
@@ -108,7 +108,7 @@ struct ArcSpec {
 /// arc a→b of capacity c gets a reverse b→a of capacity 0 unless the list also holds b→a, in which
 /// case the two are paired (an undirected edge). The super-source feeds `sources`, `protosinks`
 /// drain to the super-sink (their own arcs are kept).
-/// @throw std::invalid_argument on a node id ≥ nodes, a negative capacity or resistance, a
+/// @throw cavesim::InternalError on a node id ≥ nodes, a negative capacity or resistance, a
 ///        self-loop, a repeated arc, or an arc and its reverse with different resistances
 FlowNetwork flowNetworkFromArcs(std::size_t nodes, const std::vector<ArcSpec>& arcs, const std::vector<NodeId>& sources,
                                 const std::vector<NodeId>& protosinks);

@@ -7,13 +7,14 @@
 #include <iterator>
 #include <limits>
 #include <queue>
-#include <stdexcept>
 #include <utility>
 
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 #include <boost/graph/compressed_sparse_row_graph.hpp>
 #include <boost/graph/edmonds_karp_max_flow.hpp>
 #include <boost/property_map/property_map.hpp>
+
+#include "core/check.h"
 
 namespace cavesim::flownet {
 namespace {
@@ -56,11 +57,12 @@ private:
 };
 
 void checkNetwork(const FlowNetwork& net) {
-    if (net.arcBegin.size() != net.nodeCount() + 1 || net.arcBegin.back() != net.arcCount() ||
-        net.capacity.size() != net.arcCount() || net.resistance.size() != net.arcCount() ||
-        net.arcReverse.size() != net.arcCount() || net.source != NodeId(net.voxelNodes) ||
-        net.sink != NodeId(net.voxelNodes + 1))
-        throw std::invalid_argument("maxFlow: malformed flow network");
+    CAVESIM_CHECK(net.arcBegin.size() == net.nodeCount() + 1 && net.arcBegin.back() == net.arcCount() &&
+                      net.capacity.size() == net.arcCount() && net.resistance.size() == net.arcCount() &&
+                      net.arcReverse.size() == net.arcCount() && net.source == NodeId(net.voxelNodes) &&
+                      net.sink == NodeId(net.voxelNodes + 1),
+                  "maxFlow: malformed flow network (" + std::to_string(net.nodeCount()) + " nodes, " +
+                      std::to_string(net.arcCount()) + " arcs)");
 }
 
 template <typename T>
@@ -142,8 +144,9 @@ MaxFlowResult maxFlow(const FlowNetwork& net, MaxFlowAlgorithm algorithm) {
 
 MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistanceOptions& options) {
     checkNetwork(net);
-    if (!(options.tolerance >= 0 && options.tolerance <= 0.1) || options.maxPhases < 1)
-        throw std::invalid_argument("leastResistanceMaxFlow: options out of range");
+    CAVESIM_CHECK(options.tolerance >= 0 && options.tolerance <= 0.1 && options.maxPhases >= 1,
+                  "leastResistanceMaxFlow: tolerance must lie in [0, 0.1] (got " + std::to_string(options.tolerance) +
+                      "), maxPhases >= 1 (got " + std::to_string(options.maxPhases) + ")");
     const std::size_t nodes = net.nodeCount();
     const std::size_t arcs = net.arcCount();
     MaxFlowResult out;
@@ -266,7 +269,8 @@ double flowCost(const FlowNetwork& net, const std::vector<double>& flow) {
 std::size_t cancelFlowCycles(const FlowNetwork& net, MaxFlowResult& result) {
     checkNetwork(net);
     std::vector<double>& flow = result.flow;
-    if (flow.size() != net.arcCount()) throw std::invalid_argument("cancelFlowCycles: flow does not match network");
+    CAVESIM_CHECK(flow.size() == net.arcCount(), "cancelFlowCycles: " + std::to_string(flow.size()) +
+                                                     " flow values for " + std::to_string(net.arcCount()) + " arcs");
     const std::size_t nodes = net.nodeCount();
     enum : std::uint8_t { kWhite = 0, kOnStack = 1, kDone = 2 };
     std::vector<std::uint8_t> state(nodes, kWhite);

@@ -71,7 +71,7 @@ struct LeastResistanceOptions {
 };
 
 /// The maximum flow of least total resistance (see the file comment).
-/// @throw std::invalid_argument if the options are out of range or the network is malformed
+/// @throw cavesim::InternalError if the options are out of range or the network is malformed
 MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& network, const LeastResistanceOptions& options = {});
 
 /// Removes every directed cycle of positive flow (depth-first search; each cycle found is reduced

@@ -3,8 +3,10 @@
 #include "flownet/protochannels.h"
 
 #include <algorithm>
-#include <stdexcept>
+#include <string>
 #include <utility>
+
+#include "core/check.h"
 
 namespace cavesim::flownet {
 namespace {
@@ -14,11 +16,15 @@ enum : std::uint8_t { kFree = 0, kMarked = 1, kSourceNode = 2 };
 }  // namespace
 
 ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult& result, const TraceOptions& options) {
-    if (result.flow.size() != net.arcCount())
-        throw std::invalid_argument("traceProtochannels: flow does not match network");
-    if (!(options.minSinkFraction >= 0 && options.minSinkFraction <= 1) ||
-        !(options.minThroughFraction >= 0 && options.minThroughFraction <= 1) || options.minBranchVoxels < 1)
-        throw std::invalid_argument("traceProtochannels: options out of range");
+    CAVESIM_CHECK(result.flow.size() == net.arcCount(), "traceProtochannels: " + std::to_string(result.flow.size()) +
+                                                            " flow values for " + std::to_string(net.arcCount()) +
+                                                            " arcs");
+    CAVESIM_CHECK(options.minSinkFraction >= 0 && options.minSinkFraction <= 1 && options.minThroughFraction >= 0 &&
+                      options.minThroughFraction <= 1 && options.minBranchVoxels >= 1,
+                  "traceProtochannels: minSinkFraction and minThroughFraction must lie in [0, 1], minBranchVoxels "
+                  ">= 1 (got " +
+                      std::to_string(options.minSinkFraction) + ", " + std::to_string(options.minThroughFraction) +
+                      ", " + std::to_string(options.minBranchVoxels) + ")");
     const std::vector<double>& flow = result.flow;
     const std::size_t n = net.voxelNodes;
     ProtochannelTree tree;

@@ -68,7 +68,7 @@ struct ProtochannelTree {
 /// Traces the protochannels of a zone.
 /// @param network  the zone's network (voxel-voxel arcs are face-adjacent voxels)
 /// @param flow     a cycle-free maximum flow on it (`maxFlow` then `cancelFlowCycles`)
-/// @throw std::invalid_argument if `flow` does not match `network` or the options are out of range
+/// @throw cavesim::InternalError if `flow` does not match `network` or the options are out of range
 ProtochannelTree traceProtochannels(const FlowNetwork& network, const MaxFlowResult& flow,
                                     const TraceOptions& options = {});
 

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <limits>
-#include <stdexcept>
+#include <string>
+
+#include "core/check.h"
 
 namespace cavesim::flownet {
 namespace {
@@ -29,8 +31,9 @@ std::vector<std::size_t> zoneBoundary(const Grid3<std::int32_t>& labels, const s
     const int extent[3] = {d.nx, d.ny, d.nz};
     std::vector<std::size_t> out;
     for (std::size_t v : zoneVoxels) {
-        if (v >= labels.size() || labels[v] != zone)
-            throw std::invalid_argument("zoneBoundary: a zone voxel does not carry the zone's label");
+        CAVESIM_CHECK(
+            v < labels.size() && labels[v] == zone,
+            "zoneBoundary: voxel " + std::to_string(v) + " does not carry the label of zone " + std::to_string(zone));
         const Index3 p = d.coord(v);
         bool boundary = false;
         for (int f = 0; f < 6 && !boundary; ++f) {
@@ -51,8 +54,8 @@ std::vector<std::size_t> zoneBoundary(const Grid3<std::int32_t>& labels, const s
 }
 
 std::vector<std::size_t> chooseClusterCentres(const Dims& dims, const std::vector<std::size_t>& candidates, int count,
-                                              const std::vector<std::array<double, 3>>& aim, std::mt19937_64& rng) {
-    if (count < 1) throw std::invalid_argument("chooseClusterCentres: count must be at least 1");
+                                              const std::vector<Vec3d>& aim, std::mt19937_64& rng) {
+    CAVESIM_CHECK(count >= 1, "chooseClusterCentres: count must be at least 1, got " + std::to_string(count));
     std::vector<std::size_t> centres;
     if (candidates.empty()) return centres;
     if (!aim.empty()) {
@@ -99,7 +102,7 @@ std::vector<std::size_t> chooseClusterCentres(const Dims& dims, const std::vecto
 
 std::vector<std::size_t> clusterProtosinks(const Dims& dims, const std::vector<std::size_t>& candidates,
                                            const std::vector<std::size_t>& centres, double radius) {
-    if (!(radius >= 0)) throw std::invalid_argument("clusterProtosinks: radius must be >= 0");
+    CAVESIM_CHECK(radius >= 0, "clusterProtosinks: radius must be >= 0, got " + std::to_string(radius));
     std::vector<Index3> c;
     for (std::size_t v : centres) c.push_back(dims.coord(v));
     const double r2 = radius * radius;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/grid.h"
+#include "core/vec3.h"
 
 namespace cavesim::flownet {
 
@@ -44,7 +45,7 @@ std::vector<std::size_t> zoneBoundary(const Grid3<std::int32_t>& labels, const s
 /// @param aim         optional aim points, voxel units
 /// @return centres, in the order chosen (aimed: in `aim` order)
 std::vector<std::size_t> chooseClusterCentres(const Dims& dims, const std::vector<std::size_t>& candidates, int count,
-                                              const std::vector<std::array<double, 3>>& aim, std::mt19937_64& rng);
+                                              const std::vector<Vec3d>& aim, std::mt19937_64& rng);
 
 /// The candidates within Euclidean distance `radius` (voxels) of any centre: the protosinks of a
 /// clustered zone. Radius 0 keeps just the centres.

@@ -14,24 +14,20 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <numeric>
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "core/check.h"
+#include "core/timer.h"
 
 namespace cavesim::mesh::detail {
 namespace {
 
 using openvdb::Coord;
 using openvdb::FloatGrid;
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 openvdb::math::Transform::Ptr fineTransform(double fineVoxel) {
     auto xf = openvdb::math::Transform::createLinearTransform(fineVoxel);
@@ -325,20 +321,20 @@ double volumeOffset(const FloatGrid& phi, double target, double maxOffset) {
 }  // namespace
 
 void validateMeshOptions(const MeshOptions& o, double voxelSize) {
-    auto fail = [](const std::string& what) { throw InputError("mesh option " + what); };
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        fail("voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
-    if (o.subdivision < 1 || o.subdivision > 4)
-        fail("subdivision must be in [1, 4], got " + std::to_string(o.subdivision));
-    if (o.halfWidth < 3 || o.halfWidth > 8) fail("half width must be in [3, 8], got " + std::to_string(o.halfWidth));
-    if (!(o.tubeRadius >= 0.25 && o.tubeRadius <= 0.85))
-        fail("tube radius must be in [0.25, 0.85] voxels, got " + std::to_string(o.tubeRadius));
-    if (o.smoothingIterations < 0 || o.smoothingIterations > 100)
-        fail("smoothing iterations must be in [0, 100], got " + std::to_string(o.smoothingIterations));
-    if (!(o.maxVolumeOffset >= 0.0 && o.maxVolumeOffset <= 1.0))
-        fail("max volume offset must be in [0, 1] voxels, got " + std::to_string(o.maxVolumeOffset));
-    if (!(o.adaptivity >= 0.0 && o.adaptivity <= 1.0))
-        fail("adaptivity must be in [0, 1], got " + std::to_string(o.adaptivity));
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "mesh option voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
+    CAVESIM_CHECK(o.subdivision >= 1 && o.subdivision <= 4,
+                  "mesh option subdivision must be in [1, 4], got " + std::to_string(o.subdivision));
+    CAVESIM_CHECK(o.halfWidth >= 3 && o.halfWidth <= 8,
+                  "mesh option half width must be in [3, 8], got " + std::to_string(o.halfWidth));
+    CAVESIM_CHECK(o.tubeRadius >= 0.25 && o.tubeRadius <= 0.85,
+                  "mesh option tube radius must be in [0.25, 0.85] voxels, got " + std::to_string(o.tubeRadius));
+    CAVESIM_CHECK(o.smoothingIterations >= 0 && o.smoothingIterations <= 100,
+                  "mesh option smoothing iterations must be in [0, 100], got " + std::to_string(o.smoothingIterations));
+    CAVESIM_CHECK(o.maxVolumeOffset >= 0.0 && o.maxVolumeOffset <= 1.0,
+                  "mesh option max volume offset must be in [0, 1] voxels, got " + std::to_string(o.maxVolumeOffset));
+    CAVESIM_CHECK(o.adaptivity >= 0.0 && o.adaptivity <= 1.0,
+                  "mesh option adaptivity must be in [0, 1], got " + std::to_string(o.adaptivity));
 }
 
 CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize, const MeshOptions& options) {
@@ -354,7 +350,7 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
     const double fine = voxelSize / sub;
     const int fineHalfWidth = options.halfWidth;
     out.voxelVolume = double(caveVoxels) * voxelSize * voxelSize * voxelSize;
-    auto t0 = Clock::now();
+    Stopwatch watch;
 
     // 1. The cubes: the signed distance to the cave voxels' faces at the simulation resolution,
     //    refined `sub` times by trilinear interpolation.
@@ -371,8 +367,7 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
     coarse->setTransform(fineTransform(voxelSize));
     FloatGrid::Ptr phi = refine(*coarse, sub, fine, float(fineHalfWidth * fine));
     coarse.reset();
-    out.secondsCubes = since(t0);
-    t0 = Clock::now();
+    out.secondsCubes = watch.lap();
 
     // 2. United with the net (capsules of radius tubeRadius, at least 0.9 level-set voxels so
     //    that the level-set samples inside a capsule are always face-connected).
@@ -382,8 +377,7 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
         FloatGrid::Ptr copy = capsules->deepCopy();
         openvdb::tools::csgUnion(*phi, *copy);
     }
-    out.secondsCapsules = since(t0);
-    t0 = Clock::now();
+    out.secondsCapsules = watch.lap();
 
     // 3. Mean-curvature flow rounds the voxel staircase; the net is unioned back after every
     //    step, so the flow cannot thin a channel below the net or pinch the cave apart.
@@ -397,14 +391,13 @@ CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize
             unionInPlace(*phi, *capsules);
         }
     }
-    out.secondsSmoothing = since(t0);
-    t0 = Clock::now();
+    out.secondsSmoothing = watch.lap();
 
     // 4. Volume-preserving outward offset, applied as the iso value (keeping it well inside the
     //    narrow band: meshing needs a voxel to spare).
     out.maxIsoValue = std::min(options.maxVolumeOffset * voxelSize, (fineHalfWidth - 2) * fine);
     if (options.preserveVolume) out.isoValue = volumeOffset(*phi, out.voxelVolume, out.maxIsoValue);
-    out.secondsVolume = since(t0);
+    out.secondsVolume = watch.lap();
     out.grid = phi;
     return out;
 }

@@ -50,11 +50,11 @@ MeshStats writeMeshOutputs(const TriangleMesh& mesh, const Grid3<std::uint8_t>& 
                            const std::string& dir, const MeshOptions& options);
 
 /// Validates `options` (and the voxel size).
-/// @throw InputError naming the field and its range
+/// @throw InternalError naming the field and its range
 void validateMeshOptions(const MeshOptions& options, double voxelSize);
 
 /// Builds the smoothed level set of the cave voxels (see cave_mesh.h for the method).
-/// @throw InputError on bad options
+/// @throw InternalError on bad options
 CaveLevelSet buildCaveLevelSet(const Grid3<std::uint8_t>& mask, double voxelSize, const MeshOptions& options);
 
 }  // namespace cavesim::mesh::detail

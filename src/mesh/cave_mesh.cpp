@@ -4,12 +4,11 @@
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <utility>
 
-#include "core/error.h"
+#include "core/timer.h"
 #include "mesh/cave_level_set.h"
 #include "mesh/mesh_cleanup.h"
 #include "sim/cave.h"
@@ -114,12 +113,12 @@ MeshStats writeMeshOutputs(const TriangleMesh& mesh, const Grid3<std::uint8_t>& 
 }  // namespace detail
 
 MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     detail::validateMeshOptions(options, cave.voxelSize);
     const Grid3<std::uint8_t>& mask = cave.mask;
     MeshStats stats =
         detail::writeMeshOutputs(buildCaveMesh(mask, cave.voxelSize, options), mask, cave.voxelSize, dir, options);
-    if (stats.faces > 0) stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (stats.faces > 0) stats.seconds = watch.seconds();
     return stats;
 }
 

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/grid.h"
+#include "core/vec3.h"
 #include "sim/cave.h"
 #include "sim/options.h"
 
@@ -80,7 +81,7 @@ struct MeshStats {
 /// A triangle mesh as plain arrays. Vertices in metres; triangles index `vertices`,
 /// counter-clockwise seen from outside (right-hand normal points out).
 struct TriangleMesh {
-    std::vector<std::array<double, 3>> vertices;
+    std::vector<Vec3d> vertices;
     std::vector<std::array<int, 3>> triangles;
 };
 
@@ -88,7 +89,7 @@ struct TriangleMesh {
 /// @param mask      cave voxels; any extents (ny = 1 gives a thin closed slab along y)
 /// @param voxelSize edge of a voxel in metres, > 0
 /// @return the smooth closed mesh; empty when the mask has no cave voxel
-/// @throw InputError on a non-positive voxel size or options out of range
+/// @throw InternalError on a non-positive voxel size or options out of range
 TriangleMesh buildCaveMesh(const Grid3<std::uint8_t>& mask, double voxelSize, const MeshOptions& options = {});
 
 /// The paper's blocky look: one quad (two triangles) per face between a cave voxel and rock or
@@ -106,12 +107,12 @@ MeshStats measureMesh(const TriangleMesh& mesh);
 /// vertex normals, in metres and world space (see file comment); with style "voxel" also
 /// `dir/cave_voxels.obj`. Files are written under temporary names and renamed, so they appear
 /// complete or not at all. An empty cave writes nothing and returns zero stats.
-/// @throw InputError on bad options; RuntimeError when a file cannot be written
+/// @throw InternalError on bad options; RuntimeError when a file cannot be written
 MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options = {});
 
 /// Writes `mesh` as OBJ or PLY (by the extension of `path`: ".obj" or ".ply") through OpenMesh,
 /// with area-weighted vertex normals, via a temporary file and a rename.
-/// @throw InputError on an unknown extension; RuntimeError when the file cannot be written
+/// @throw InternalError on an unknown extension; RuntimeError when the file cannot be written
 void writeMeshFile(const TriangleMesh& mesh, const std::string& path);
 
 /// Reads an OBJ or PLY file written by `writeMeshFile` (tests, tools).

@@ -9,12 +9,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 
-#include "core/error.h"
+#include "core/check.h"
+#include "core/timer.h"
 #include "mesh/cave_level_set.h"
 #include "render/colormap.h"
 #include "render/png_io.h"
@@ -26,7 +26,6 @@ namespace {
 using render::Frame;
 using render::Image;
 using render::Rgb;
-using render::Vec3;
 
 constexpr float kMiss = std::numeric_limits<float>::infinity();
 
@@ -69,9 +68,9 @@ DepthRange depthRanges(const Frame& f, const Grid3<std::uint8_t>& mask, double m
                 if (!boundary) continue;
                 double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300, near = 1e300, far = -1e300;
                 for (int corner = 0; corner < 8; ++corner) {
-                    const Vec3 w{(corner & 1) ? (i + 1) * h + margin : i * h - margin,
-                                 (corner & 2) ? (j + 1) * h + margin : j * h - margin,
-                                 (corner & 4) ? (k + 1) * h + margin : k * h - margin};
+                    const Vec3d w{(corner & 1) ? (i + 1) * h + margin : i * h - margin,
+                                  (corner & 2) ? (j + 1) * h + margin : j * h - margin,
+                                  (corner & 4) ? (k + 1) * h + margin : k * h - margin};
                     const auto p = f.camera.project(w);
                     x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
                     near = std::min(near, p.depth), far = std::max(far, p.depth);
@@ -133,7 +132,7 @@ void tracePixel(const Frame& f, const DepthRange& range, Tracer& tracer, GBuffer
     if (range.near[id] == kMiss) return;
     const render::Camera& cam = f.camera;
     const double slack = 0.5 * f.voxelSize;
-    Vec3 o, d;
+    Vec3d o, d;
     cam.ray(f.vx + x + 0.5, f.vy + y + 0.5, o, d);
     double t0 = 0.0, t1 = 0.0;
     if (cam.perspective) {
@@ -271,13 +270,14 @@ std::string viewTitle(render::View view) {
 void shade(Image& img, const Frame& f, const GBuffer& g) {
     const render::Camera& cam = f.camera;
     const double range = std::max(f.depthMax - f.depthMin, 1e-12);
-    auto comb = [](const Vec3& a, double sa, const Vec3& b, double sb, const Vec3& c, double sc) {
-        Vec3 r{a[0] * sa + b[0] * sb + c[0] * sc, a[1] * sa + b[1] * sb + c[1] * sc, a[2] * sa + b[2] * sb + c[2] * sc};
+    auto comb = [](const Vec3d& a, double sa, const Vec3d& b, double sb, const Vec3d& c, double sc) {
+        Vec3d r{a[0] * sa + b[0] * sb + c[0] * sc, a[1] * sa + b[1] * sb + c[1] * sc,
+                a[2] * sa + b[2] * sb + c[2] * sc};
         const double n = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-        return Vec3{r[0] / n, r[1] / n, r[2] / n};
+        return Vec3d{r[0] / n, r[1] / n, r[2] / n};
     };
     // Key light from the upper left, toward the viewer.
-    const Vec3 light = comb(cam.right, -0.45, cam.up, 0.6, cam.forward, -0.66);
+    const Vec3d light = comb(cam.right, -0.45, cam.up, 0.6, cam.forward, -0.66);
     const double jump = 1.5 * f.voxelSize;
     tbb::parallel_for(tbb::blocked_range<int>(0, g.h, 16), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y < rows.end(); ++y)
@@ -295,14 +295,14 @@ void shade(Image& img, const Frame& f, const GBuffer& g) {
                     if (rim) img.blend(f.vx + x, f.vy + y, Rgb{40, 36, 40}, 0.45);
                     continue;
                 }
-                Vec3 dir;
-                Vec3 o;
+                Vec3d dir;
+                Vec3d o;
                 cam.ray(f.vx + x + 0.5, f.vy + y + 0.5, o, dir);
                 const auto& nf = g.normal[id];
-                const Vec3 n{nf[0], nf[1], nf[2]};
+                const Vec3d n{nf[0], nf[1], nf[2]};
                 const double ndl = std::max(0.0, n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
                 const double head = std::max(0.0, -(n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]));
-                const Vec3 half = comb(light, 1.0, dir, -1.0, dir, 0.0);
+                const Vec3d half = comb(light, 1.0, dir, -1.0, dir, 0.0);
                 const double spec = std::pow(std::max(0.0, n[0] * half[0] + n[1] * half[1] + n[2] * half[2]), 40.0);
                 const double t = std::clamp((double(d) - f.depthMin) / range, 0.0, 1.0);
                 Rgb c = render::scale(render::depthRamp(t), 0.28 + 0.55 * ndl + 0.32 * head);
@@ -355,8 +355,7 @@ std::array<render::Image, 4> renderViews(const Cave& cave, int width, const deta
 }
 
 void checkWidth(int width) {
-    if (width < 64 || width > 16384)
-        throw InputError("picture width must be in [64, 16384], got " + std::to_string(width));
+    CAVESIM_CHECK(width >= 64 && width <= 16384, "picture width must be in [64, 16384], got " + std::to_string(width));
 }
 
 void writeViews(const std::array<render::Image, 4>& images, const std::string& imagesDir) {
@@ -384,13 +383,13 @@ void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width
 
 MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir,
                                    int width, const MeshOptions& options) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     checkWidth(width);
     detail::validateMeshOptions(options, cave.voxelSize);
     const detail::CaveSurface surface = detail::buildCaveSurface(cave.mask, cave.voxelSize, options, true);
     MeshStats stats = detail::writeMeshOutputs(surface.mesh, cave.mask, cave.voxelSize, dir, options);
     writeViews(renderViews(cave, width, surface.levelSet), imagesDir);
-    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats.seconds = watch.seconds();
     return stats;
 }
 

@@ -27,17 +27,17 @@ inline constexpr std::array<render::View, 4> kCaveViews{render::View::kPerspecti
 /// Renders the four views of the cave, each `width` pixels wide (height from the
 /// block's proportions). An empty cave still gives the block, its sources and sinks and a note
 /// "no cave". Deterministic for any thread count.
-/// @throw InputError if width is outside [64, 16384] or the options are bad
+/// @throw InternalError if width is outside [64, 16384] or the options are bad
 std::array<render::Image, 4> renderCaveViews(const Cave& cave, int width, const MeshOptions& options = {});
 
 /// Writes imagesDir/perspective.png, plan.png, side_xz.png and side_yz.png (creating imagesDir),
 /// each through a temporary name and a rename.
-/// @throw InputError on a bad width; RuntimeError when a file cannot be written
+/// @throw InternalError on a bad width; RuntimeError when a file cannot be written
 void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width);
 
 /// writeCaveMesh(cave, dir, options) and writeCavePictures(cave, imagesDir, width) sharing
 /// one level set: the same files, about a fifth less time. `seconds` covers both.
-/// @throw InputError on a bad width or options; RuntimeError when a file cannot be written
+/// @throw InternalError on a bad width or options; RuntimeError when a file cannot be written
 MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir,
                                    int width, const MeshOptions& options = {});
 

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "mesh/cave_mesh.h"
 #include "mesh/mesh_cleanup.h"
 
@@ -46,8 +46,8 @@ OmMesh toOpenMesh(const TriangleMesh& mesh) {
     const int nv = int(mesh.vertices.size());
     for (const auto& t : mesh.triangles) {
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
-        if (std::min({t[0], t[1], t[2]}) < 0 || std::max({t[0], t[1], t[2]}) >= nv)
-            throw RuntimeError("triangle mesh refers to a vertex that does not exist");
+        CAVESIM_CHECK(std::min({t[0], t[1], t[2]}) >= 0 && std::max({t[0], t[1], t[2]}) < nv,
+                      "triangle mesh refers to a vertex that does not exist");
         if (m.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) continue;
         std::array<OmMesh::VertexHandle, 3> copies;
         for (int c = 0; c < 3; ++c) copies[c] = m.add_vertex(m.point(vh[t[c]]));
@@ -134,8 +134,7 @@ OmMesh withNormals(const TriangleMesh& mesh) {
 
 void checkExtension(const std::string& path) {
     const std::string ext = lowerExtension(path);
-    if (ext != ".obj" && ext != ".ply")
-        throw InputError("cannot write mesh " + path + ": the name must end in .obj or .ply");
+    CAVESIM_CHECK(ext == ".obj" || ext == ".ply", "cannot write mesh " + path + ": the name must end in .obj or .ply");
 }
 
 // Writes under a temporary name with the same extension (OpenMesh picks the writer by it), then

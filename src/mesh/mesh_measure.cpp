@@ -5,7 +5,7 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "mesh/cave_mesh.h"
 
 namespace cavesim::mesh {
@@ -25,17 +25,6 @@ struct UnionFind {
     }
 };
 
-using Vec = std::array<double, 3>;
-Vec sub(const Vec& a, const Vec& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-Vec cross(const Vec& a, const Vec& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec& a, const Vec& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 }  // namespace
 
 MeshStats measureMesh(const TriangleMesh& mesh) {
@@ -45,14 +34,15 @@ MeshStats measureMesh(const TriangleMesh& mesh) {
     if (nf == 0) return s;
     for (const auto& t : mesh.triangles)
         for (int c = 0; c < 3; ++c)
-            if (t[c] < 0 || t[c] >= nv) throw InputError("measureMesh: a triangle refers to a missing vertex");
+            CAVESIM_CHECK(t[c] >= 0 && t[c] < nv, "measureMesh: a triangle refers to the missing vertex " +
+                                                      std::to_string(t[c]) + " of " + std::to_string(nv));
 
     // Area and signed volume (sum of signed tetrahedra against the origin).
     for (const auto& t : mesh.triangles) {
-        const Vec& a = mesh.vertices[t[0]];
-        const Vec& b = mesh.vertices[t[1]];
-        const Vec& c = mesh.vertices[t[2]];
-        const Vec n = cross(sub(b, a), sub(c, a));
+        const Vec3d& a = mesh.vertices[t[0]];
+        const Vec3d& b = mesh.vertices[t[1]];
+        const Vec3d& c = mesh.vertices[t[2]];
+        const Vec3d n = cross(sub(b, a), sub(c, a));
         s.areaM2 += 0.5 * std::sqrt(dot(n, n));
         s.volumeM3 += dot(a, cross(b, c)) / 6.0;
     }
@@ -146,8 +136,8 @@ MeshStats measureMesh(const TriangleMesh& mesh) {
 }
 
 TriangleMesh buildVoxelMesh(const Grid3<std::uint8_t>& mask, double voxelSize) {
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        throw InputError("voxel size must be a positive number of metres");
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
     const Dims& d = mask.dims;
     TriangleMesh mesh;
     std::unordered_map<std::uint64_t, int> corner;

@@ -2,8 +2,7 @@
 /// @brief One pass from the cave voxels to every figure of the report.
 #include "morpho/analysis.h"
 
-#include <chrono>
-
+#include "core/timer.h"
 #include "sim/cave.h"
 
 namespace cavesim::morpho {
@@ -11,7 +10,7 @@ namespace cavesim::morpho {
 CaveAnalysis analyseCave(const Cave& cave, const Grid3<float>* pressure,
                          const std::vector<std::optional<int>>& connectedIteration,
                          const SkeletonOptions& skeletonOptions) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     CaveAnalysis a;
     a.skeleton = skeletonize(cave.mask, cave.voxelSize, skeletonOptions);
 
@@ -27,7 +26,7 @@ CaveAnalysis analyseCave(const Cave& cave, const Grid3<float>* pressure,
 
     a.morphometry = computeMorphometry(cave.mask, a.skeleton, cave.voxelSize);
     a.metrics = computeGraphMetrics(a.skeleton);
-    a.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    a.seconds = watch.seconds();
     return a;
 }
 

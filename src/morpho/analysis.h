@@ -1,5 +1,5 @@
 /// @file analysis.h
-/// @brief The whole measurement of a cave (DESIGN §5): skeleton → network counts, morphometric
+/// @brief The whole measurement of a cave: skeleton → network counts, morphometric
 /// indices (paper §4.2) and network metrics (Collon et al. 2017), in one call.
 #pragma once
 
@@ -34,6 +34,5 @@ struct CaveAnalysis {
 CaveAnalysis analyseCave(const Cave& cave, const Grid3<float>* pressure,
                          const std::vector<std::optional<int>>& connectedIteration = {},
                          const SkeletonOptions& skeletonOptions = {});
-
 
 }  // namespace cavesim::morpho

@@ -1,4 +1,4 @@
-// Network metrics of the centreline graph (DESIGN §5, Collon et al. 2017). Conventions: graph_metrics.h.
+// Network metrics of the centreline graph (Collon et al. 2017). Conventions: graph_metrics.h.
 #include "morpho/graph_metrics.h"
 
 #include <algorithm>
@@ -12,7 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "core/error.h"
+#include "core/check.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -21,23 +21,8 @@ constexpr double kPi = 3.14159265358979323846;
 /// Fraction of a histogram bin below an edge that still counts in the upper bin (round-off guard).
 constexpr double kBinEdgeTolerance = 1e-9;
 
-constexpr std::array<MetricRange, 9> kRealCaveRanges{{
-    {"k_mean", 1.75, 2.57},
-    {"r_k", -0.56, -0.15},
-    {"spl", 2.32, 55.72},
-    {"cpd", 0.02, 0.57},
-    {"h_or", 0.75, 1.00},
-    {"len_mean_m", 8.46, 331.74},
-    {"cv_len", 0.90, 2.56},
-    {"h_len", 0.07, 0.67},
-    {"tortuosity", 1.12, 1.54},
-}};
-
 double distance(const SkeletonNode& a, const SkeletonNode& b) {
-    const double dx = b.position[0] - a.position[0];
-    const double dy = b.position[1] - a.position[1];
-    const double dz = b.position[2] - a.position[2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
+    return cavesim::distance(a.position, b.position);
 }
 
 /// Compressed adjacency of an undirected simple graph; each node's neighbours sorted by index.
@@ -414,31 +399,28 @@ GraphMetrics metricsOf(const Skeleton& s) {
 }  // namespace
 
 void validateSkeleton(const Skeleton& skeleton) {
-    if (skeleton.nodes.size() > std::size_t(INT_MAX))
-        throw InputError("skeleton: " + std::to_string(skeleton.nodes.size()) + " nodes, more than an int indexes");
-    if (skeleton.edges.size() > std::size_t(INT_MAX / 2))
-        throw InputError("skeleton: " + std::to_string(skeleton.edges.size()) + " edges, more than an int indexes");
+    CAVESIM_CHECK(skeleton.nodes.size() <= std::size_t(INT_MAX),
+                  "skeleton: " + std::to_string(skeleton.nodes.size()) + " nodes, more than an int indexes");
+    CAVESIM_CHECK(skeleton.edges.size() <= std::size_t(INT_MAX / 2),
+                  "skeleton: " + std::to_string(skeleton.edges.size()) + " edges, more than an int indexes");
     const int n = int(skeleton.nodes.size());
     for (std::size_t i = 0; i < skeleton.nodes.size(); ++i)
         for (double c : skeleton.nodes[i].position)
-            if (!std::isfinite(c))
-                throw InputError("skeleton: node " + std::to_string(i) + " has a non-finite position");
+            CAVESIM_CHECK(std::isfinite(c), "skeleton: node " + std::to_string(i) + " has a non-finite position");
     std::vector<std::uint64_t> keys;
     keys.reserve(skeleton.edges.size());
     for (std::size_t i = 0; i < skeleton.edges.size(); ++i) {
         const int a = skeleton.edges[i][0], b = skeleton.edges[i][1];
-        if (a < 0 || b < 0 || a >= n || b >= n)
-            throw InputError("skeleton: edge " + std::to_string(i) + " (" + std::to_string(a) + ", " +
-                             std::to_string(b) + ") refers to a node outside 0.." + std::to_string(n - 1));
-        if (a == b)
-            throw InputError("skeleton: edge " + std::to_string(i) + " is a self loop on node " + std::to_string(a));
+        CAVESIM_CHECK(a >= 0 && b >= 0 && a < n && b < n, "skeleton: edge " + std::to_string(i) + " (" +
+                                                              std::to_string(a) + ", " + std::to_string(b) +
+                                                              ") refers to a node outside 0.." + std::to_string(n - 1));
+        CAVESIM_CHECK(a != b, "skeleton: edge " + std::to_string(i) + " is a self loop on node " + std::to_string(a));
         keys.push_back((std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b)));
     }
     std::sort(keys.begin(), keys.end());
     const auto dup = std::adjacent_find(keys.begin(), keys.end());
-    if (dup != keys.end())
-        throw InputError("skeleton: edge (" + std::to_string(*dup >> 32) + ", " + std::to_string(*dup & 0xffffffffu) +
-                         ") is listed twice");
+    CAVESIM_CHECK(dup == keys.end(), "skeleton: edge (" + std::to_string(*dup >> 32) + ", " +
+                                         std::to_string(*dup & 0xffffffffu) + ") is listed twice");
 }
 
 std::vector<Branch> findBranches(const Skeleton& skeleton) {
@@ -482,10 +464,6 @@ nlohmann::json toJson(const GraphMetrics& m) {
     j["reduced_nodes"] = m.reduced_nodes;
     j["reduced_edges"] = m.reduced_edges;
     return j;
-}
-
-const std::array<MetricRange, 9>& realCaveRanges() {
-    return kRealCaveRanges;
 }
 
 }  // namespace cavesim::morpho

@@ -3,12 +3,13 @@
 /// that karstnet, KarstNSim and Paris et al. report): geometry of the branches (mean length,
 /// coefficient of variation, length entropy, tortuosity, orientation entropy) and topology of the
 /// reduced graph (mean degree, degree assortativity, mean shortest path, central point dominance).
-/// Definitions: DESIGN §5; reference ranges of 34 surveyed caves: `realCaveRanges()`.
+/// Definitions: Collon et al. 2017 and the conventions below; reference ranges of 34 surveyed caves:
+/// `realCaveRanges()` (morpho/reference_ranges.h).
 ///
 /// All lengths are in metres, computed from the node positions of the `Skeleton` (world space);
 /// the metrics never look at voxels.
 ///
-/// Conventions where DESIGN §5 is silent (each follows karstnet, whose code produced the
+/// Conventions where the definitions leave a choice (each follows karstnet, whose code produced the
 /// reference ranges, unless said otherwise):
 ///  - **Branch**: a maximal chain of skeleton edges whose inner nodes have degree 2; its ends have
 ///    degree ≠ 2. A component that is a pure cycle (every node of degree 2) is one branch, anchored
@@ -20,7 +21,7 @@
 ///    cut in 2 at its middle node (the single-edge one, if any, stays whole). Isolated skeleton
 ///    nodes are isolated nodes of the reduced graph and count in `k_mean` (karstnet builds its graph
 ///    from the edge list and never sees them).
-///  - `cv_len` uses the *sample* standard deviation (n − 1), as DESIGN §5 says (karstnet uses n):
+///  - `cv_len` uses the *sample* standard deviation (n − 1) (karstnet uses n):
 ///    undefined for fewer than 2 branches.
 ///  - `h_len`: bin b = ⌊10·l/l_max⌋ (b = 9 for l = l_max); a value less than 1e-9 of a bin width
 ///    below a bin edge counts in the upper bin, so round-off does not move lengths that sit on an edge.
@@ -48,11 +49,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "morpho/reference_ranges.h"
 #include "morpho/skeleton_graph.h"
 
 namespace cavesim::morpho {
 
-/// The network metrics of DESIGN §5 (`report.json` "graph_metrics"). A metric that is undefined
+/// The network metrics of Collon et al. 2017 (`report.json` "graph_metrics"). A metric that is undefined
 /// for the graph (e.g. `r_k` without edges, `cv_len` of one branch) is empty and serialised as null.
 struct GraphMetrics {
     std::optional<double> k_mean;      ///< mean degree of the reduced graph
@@ -86,36 +88,26 @@ struct ReducedGraph {
     std::vector<std::array<int, 2>> edges;  ///< pairs of reduced-node indices (positions in `nodes`), a < b
 };
 
-/// A range of values observed on real caves, for the report.
-struct MetricRange {
-    const char* key;  ///< GraphMetrics / report.json name
-    double lo, hi;    ///< inclusive bounds
-};
-
-/// Throws cavesim::InputError unless every edge joins two distinct nodes that exist, no edge is
+/// Throws cavesim::InternalError unless every edge joins two distinct nodes that exist, no edge is
 /// listed twice (in either orientation) and every position is finite.
 void validateSkeleton(const Skeleton& skeleton);
 
 /// The branches of the skeleton, in a deterministic order: first those starting at the nodes of
 /// degree ≠ 2 (by node index, then by neighbour index), then the pure cycles (by lowest node index).
-/// @throw cavesim::InputError on an invalid skeleton (see `validateSkeleton`)
+/// @throw cavesim::InternalError on an invalid skeleton (see `validateSkeleton`)
 std::vector<Branch> findBranches(const Skeleton& skeleton);
 
 /// The reduced graph of the skeleton (conventions in the file comment).
-/// @throw cavesim::InputError on an invalid skeleton
+/// @throw cavesim::InternalError on an invalid skeleton
 ReducedGraph reduceSkeleton(const Skeleton& skeleton);
 
 /// All network metrics of the skeleton. Cost O(E log E) for the geometry plus O(n·m) for the
 /// all-pairs searches on the reduced graph (n nodes, m edges).
-/// @throw cavesim::InputError on an invalid skeleton
+/// @throw cavesim::InternalError on an invalid skeleton
 GraphMetrics computeGraphMetrics(const Skeleton& skeleton);
 
 /// {"k_mean", "r_k", "spl", "cpd", "h_or", "len_mean_m", "cv_len", "h_len", "tortuosity", the counts};
 /// undefined metrics are null.
 nlohmann::json toJson(const GraphMetrics& m);
-
-/// The ranges of the metrics over 34 surveyed caves (Collon et al. 2017, 2021, as quoted by DESIGN §5
-/// from Table 3 of the KarstNSim paper), in the order of `toJson`'s metric keys.
-const std::array<MetricRange, 9>& realCaveRanges();
 
 }  // namespace cavesim::morpho

@@ -1,4 +1,4 @@
-// Morphometric indices of the cave (paper §4.2, DESIGN §5). Conventions: morphometry.h.
+// Morphometric indices of the cave (paper §4.2). Conventions: morphometry.h.
 #include "morpho/morphometry.h"
 
 #include <algorithm>
@@ -12,30 +12,11 @@
 #include <boost/geometry/geometries/point_xy.hpp>
 #include <boost/geometry/geometries/polygon.hpp>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "morpho/graph_metrics.h"
 
 namespace cavesim::morpho {
 namespace {
-
-constexpr std::array<CategoryRange, 14> kCategoryRanges{{
-    // Paper Table 2: Klimchouk (2006), optimised cave field.
-    {"unconfined", "network_density_opt", 2, 0.012, 0.023},
-    {"unconfined", "areal_coverage_pct_opt", 2, 3.77, 8.55},
-    {"unconfined", "porosity_pct_opt", 2, 0.15, 0.77},
-    {"unconfined", "mean_width_m", 2, 2.52, 4.56},
-    {"confined", "network_density_opt", 2, 0.049, 0.406},
-    {"confined", "areal_coverage_pct_opt", 2, 13.56, 58.51},
-    {"confined", "porosity_pct_opt", 2, 1.1, 12.0},
-    {"confined", "mean_width_m", 2, 0.65, 4.53},
-    // Paper Table 3: Frumkin & Fischhendler (2005), rectangular cave field.
-    {"chamber", "network_density_rect", 3, 0.01, 0.25},
-    {"chamber", "areal_coverage_pct_rect", 3, 20.0, 80.0},
-    {"chamber", "mean_width_m", 3, 2.0, 100.0},
-    {"confined", "network_density_rect", 3, 0.07, 0.35},
-    {"confined", "areal_coverage_pct_rect", 3, 10.0, 40.0},
-    {"confined", "mean_width_m", 3, 0.9, 8.0},
-}};
 
 double indexValue(const Morphometry& m, const std::string& index) {
     if (index == "network_density_opt") return m.network_density_opt;
@@ -45,7 +26,8 @@ double indexValue(const Morphometry& m, const std::string& index) {
     if (index == "porosity_pct_opt") return m.porosity_pct_opt;
     if (index == "porosity_pct_rect") return m.porosity_pct_rect;
     if (index == "mean_width_m") return m.mean_width_m;
-    throw RuntimeError("morphometry: unknown index '" + index + "'");  // unreachable with kCategoryRanges
+    CAVESIM_CHECK(false, "morphometry: unknown index '" + index + "'");  // unreachable with categoryRanges()
+    return 0.0;
 }
 
 /// a / b, or 0 when b is 0 (an empty cave).
@@ -77,16 +59,14 @@ double hullArea(const std::vector<int>& rowMin, const std::vector<int>& rowMax) 
 }  // namespace
 
 Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize) {
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        throw InputError("morphometry: the voxel size must be a positive number of metres, got " +
-                         std::to_string(voxelSize));
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "morphometry: the voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
     const Dims d = mask.dims;
-    if (d.nx < 0 || d.ny < 0 || d.nz < 0)
-        throw InputError("morphometry: negative mask dimensions " + std::to_string(d.nx) + "×" + std::to_string(d.ny) +
-                         "×" + std::to_string(d.nz));
-    if (mask.data.size() != d.count())
-        throw InputError("morphometry: the mask holds " + std::to_string(mask.data.size()) + " values for " +
-                         std::to_string(d.nx) + "×" + std::to_string(d.ny) + "×" + std::to_string(d.nz) + " voxels");
+    CAVESIM_CHECK(d.nx >= 0 && d.ny >= 0 && d.nz >= 0, "morphometry: negative mask dimensions " + std::to_string(d.nx) +
+                                                           "×" + std::to_string(d.ny) + "×" + std::to_string(d.nz));
+    CAVESIM_CHECK(mask.data.size() == d.count(), "morphometry: the mask holds " + std::to_string(mask.data.size()) +
+                                                     " values for " + std::to_string(d.nx) + "×" +
+                                                     std::to_string(d.ny) + "×" + std::to_string(d.nz) + " voxels");
     validateSkeleton(skeleton);
 
     Morphometry m;
@@ -94,8 +74,7 @@ Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& 
     for (const auto& e : skeleton.edges) {
         const auto& a = skeleton.nodes[std::size_t(e[0])].position;
         const auto& b = skeleton.nodes[std::size_t(e[1])].position;
-        m.length_m +=
-            std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+        m.length_m += distance(a, b);
     }
 
     // Plan (columns), per-row extent, bounding box and vertical extent of the cave voxels.
@@ -170,15 +149,11 @@ nlohmann::json toJson(const Morphometry& m) {
     };
 }
 
-const std::array<CategoryRange, 14>& categoryRanges() {
-    return kCategoryRanges;
-}
-
 CategoryVotes categoryVotes(const Morphometry& m) {
     CategoryVotes v;
-    for (const auto& r : kCategoryRanges) {
-        const double x = indexValue(m, r.index);
-        if (!(x >= r.lo && x <= r.hi)) continue;
+    for (const ReferenceRange& r : categoryRanges()) {
+        const double x = indexValue(m, r.key);
+        if (!(x >= r.low && x <= r.high)) continue;
         const std::string c = r.category;
         if (c == "unconfined")
             ++v.unconfined;

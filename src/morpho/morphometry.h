@@ -1,6 +1,6 @@
 /// @file morphometry.h
-/// @brief Morphometric indices of the cave (paper §4.2; Klimchouk 2006, Frumkin & Fischhendler 2005;
-/// DESIGN §5): length, plan area, volume, cave field A_field and block V_block, network density,
+/// @brief Morphometric indices of the cave (paper §4.2; Klimchouk 2006, Frumkin & Fischhendler 2005):
+/// length, plan area, volume, cave field A_field and block V_block, network density,
 /// areal coverage, porosity and mean passage width W, for a rectangular and an optimised field,
 /// and the cave category these indices point to (paper Tables 2 and 3).
 ///
@@ -30,11 +30,12 @@
 #include <nlohmann/json.hpp>
 
 #include "core/grid.h"
+#include "morpho/reference_ranges.h"
 #include "morpho/skeleton_graph.h"
 
 namespace cavesim::morpho {
 
-/// The `report.json` "morphometry" values (DESIGN §4 names) and supporting values.
+/// The `report.json` "morphometry" values (member names are the JSON keys) and supporting values.
 struct Morphometry {
     double length_m = 0.0;                 ///< total skeleton length, m
     double area_m2 = 0.0;                  ///< plan area, m²
@@ -59,26 +60,13 @@ struct Morphometry {
 /// @param mask       cave voxels (non-zero = cave), index space, z up
 /// @param skeleton   the cave's centreline, positions in metres (world space); only its edge lengths are used
 /// @param voxelSize  edge of a voxel, metres, > 0
-/// @throw cavesim::InputError on a non-positive or non-finite voxel size, a mask whose data does not
+/// @throw cavesim::InternalError on a non-positive or non-finite voxel size, a mask whose data does not
 ///        match its dims, or an invalid skeleton (see `validateSkeleton`)
 Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize);
 
-/// The DESIGN §4 keys plus "vertical_range_m", "cave_voxels", "plan_cells" and
+/// The index keys (the member names above) plus "vertical_range_m", "cave_voxels", "plan_cells" and
 /// "field_opt_method" ("convex_hull").
 nlohmann::json toJson(const Morphometry& m);
-
-/// One value range of a cave category: paper Table 2 (Klimchouk 2006, optimised field) or
-/// Table 3 (Frumkin & Fischhendler 2005, rectangular field).
-struct CategoryRange {
-    const char* category;  ///< "unconfined", "confined" or "chamber"
-    const char* index;     ///< Morphometry member compared: network_density_opt, areal_coverage_pct_rect, …
-    int table;             ///< 2 or 3 (paper table)
-    double lo, hi;         ///< inclusive bounds, in the index's unit
-};
-
-/// The 14 ranges of the paper's Tables 2 and 3 (Table 2: 4 indices × unconfined/confined on the
-/// optimised field; Table 3: 3 indices × chamber/confined on the rectangular field).
-const std::array<CategoryRange, 14>& categoryRanges();
 
 /// How many of the category's ranges (`categoryRanges`) hold the cave's value.
 struct CategoryVotes {

@@ -8,7 +8,9 @@
 #include <limits>
 #include <numeric>
 #include <queue>
-#include <stdexcept>
+#include <string>
+
+#include "core/check.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -16,9 +18,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double distance(const SkeletonNode& a, const SkeletonNode& b) {
-    const double dx = a.position[0] - b.position[0], dy = a.position[1] - b.position[1],
-                 dz = a.position[2] - b.position[2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
+    return cavesim::distance(a.position, b.position);
 }
 
 struct Adjacency {
@@ -170,9 +170,8 @@ std::vector<std::size_t> loopTroughs(const std::vector<double>& z, double rise) 
 
 NetworkCounts analyseNetwork(const Skeleton& s, const NetworkInput& in, const NetworkOptions& opt) {
     const Dims& d = in.dims;
-    if (!in.cave || !(in.cave->dims == d)) throw std::invalid_argument("analyseNetwork: cave grid does not match dims");
-    if (in.pressure && !(in.pressure->dims == d))
-        throw std::invalid_argument("analyseNetwork: pressure grid does not match dims");
+    CAVESIM_CHECK(in.cave && in.cave->dims == d, "analyseNetwork: cave grid missing or not matching dims");
+    CAVESIM_CHECK(!in.pressure || in.pressure->dims == d, "analyseNetwork: pressure grid does not match dims");
     NetworkCounts out;
     out.sourcesTotal = int(in.sources.size());
     for (std::size_t si = 0; si < in.sources.size(); ++si) {
@@ -184,7 +183,9 @@ NetworkCounts analyseNetwork(const Skeleton& s, const NetworkInput& in, const Ne
 
     Grid3<std::int32_t> nodeAt(d, -1);
     for (std::size_t n = 0; n < s.nodes.size(); ++n) {
-        if (s.nodes[n].voxel >= d.count()) throw std::invalid_argument("analyseNetwork: skeleton node outside the grid");
+        CAVESIM_CHECK(s.nodes[n].voxel < d.count(), "analyseNetwork: skeleton node " + std::to_string(n) +
+                                                        " stands on voxel " + std::to_string(s.nodes[n].voxel) +
+                                                        ", outside the grid");
         nodeAt[s.nodes[n].voxel] = std::int32_t(n);
     }
     const Adjacency adj(s);
@@ -277,12 +278,9 @@ nlohmann::json toJson(const NetworkCounts& c, const Skeleton& s) {
                          {"captured_by", fp.capturedBy ? nlohmann::json(*fp.capturedBy) : nlohmann::json(nullptr)},
                          {"join_m", fp.joinNode ? pos(*fp.joinNode) : nlohmann::json(nullptr)}});
     }
-    return {{"sources_total", c.sourcesTotal},
-            {"sources_connected", c.sourcesConnected},
-            {"confluences", c.confluences},
-            {"tributary_captures", c.tributaryCaptures},
-            {"phreatic_loops", c.phreaticLoops},
-            {"paths", paths}};
+    return {{"sources_total", c.sourcesTotal},   {"sources_connected", c.sourcesConnected},
+            {"confluences", c.confluences},      {"tributary_captures", c.tributaryCaptures},
+            {"phreatic_loops", c.phreaticLoops}, {"paths", paths}};
 }
 
 }  // namespace cavesim::morpho

@@ -21,8 +21,8 @@ namespace cavesim::morpho {
 struct NetworkInput {
     Dims dims;
     double voxelSize = 0;  ///< metres; > 0: elevations from the smoothed node positions, else from node voxels
-    const Grid3<std::uint8_t>* cave = nullptr;   ///< cave voxels (1) — the mask the skeleton was made from
-    const Grid3<float>* pressure = nullptr;      ///< stage-2 pressure; nullptr when there was no stage 2
+    const Grid3<std::uint8_t>* cave = nullptr;      ///< cave voxels (1) — the mask the skeleton was made from
+    const Grid3<float>* pressure = nullptr;         ///< stage-2 pressure; nullptr when there was no stage 2
     std::vector<std::vector<std::size_t>> sources;  ///< voxels of each source, scenario order
     std::vector<std::vector<std::size_t>> sinks;    ///< voxels of each sink, scenario order
     /// Iteration at which each source was first joined to a sink during stage 2 (scenario order);
@@ -32,7 +32,7 @@ struct NetworkInput {
 
 struct NetworkOptions {
     /// A phreatic loop: along a flow path, a descent followed by a rise of at least this many
-    /// voxels (index units, z). DESIGN §2: 2.
+    /// voxels (index units, z); docs/network-definitions.md, "Phreatic loops": 2.
     double loopRise = 2;
     /// How far a terminal (source or sink) may be from the skeleton, measured through cave
     /// voxels (26-connected steps, index units), for the two to be joined.
@@ -52,15 +52,15 @@ struct FlowPath {
 
 struct NetworkCounts {
     int sourcesTotal = 0;
-    int sourcesConnected = 0;   ///< sources with a flow path to a sink
-    int confluences = 0;        ///< distinct nodes where the flow paths of different sources first meet
-    int tributaryCaptures = 0;  ///< sources whose channel joins an earlier-connected source's channel before a sink
-    int phreaticLoops = 0;      ///< distinct loop troughs over all flow paths
+    int sourcesConnected = 0;     ///< sources with a flow path to a sink
+    int confluences = 0;          ///< distinct nodes where the flow paths of different sources first meet
+    int tributaryCaptures = 0;    ///< sources whose channel joins an earlier-connected source's channel before a sink
+    int phreaticLoops = 0;        ///< distinct loop troughs over all flow paths
     std::vector<FlowPath> paths;  ///< one per source, scenario order
 };
 
 /// Analyses the skeleton of a cave. Never throws for an empty cave or skeleton (all counts 0).
-/// @throw std::invalid_argument if the grids do not match `dims`
+/// @throw cavesim::InternalError if the grids do not match `dims`
 NetworkCounts analyseNetwork(const Skeleton& skeleton, const NetworkInput& input, const NetworkOptions& options = {});
 
 /// report.json "network": sources_total, sources_connected, confluences, tributary_captures,

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
+#include "core/check.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -405,10 +405,10 @@ std::vector<float> squaredDistanceToBackground(const Padded& g, int skipAxis) {
 // Steps 3–5 on a small adjacency-list graph of voxels.
 // ------------------------------------------------------------------------------------------------
 struct WorkGraph {
-    std::vector<std::size_t> pad;            // padded linear index of the node's voxel
-    std::vector<Index3> ijk;                 // inner voxel coordinate
-    std::vector<double> dist;                // distance (voxels) from the voxel centre to the nearest background centre
-    std::vector<std::array<double, 3>> pos;  // position, voxel units (index space)
+    std::vector<std::size_t> pad;  // padded linear index of the node's voxel
+    std::vector<Index3> ijk;       // inner voxel coordinate
+    std::vector<double> dist;      // distance (voxels) from the voxel centre to the nearest background centre
+    std::vector<Vec3d> pos;        // position, voxel units (index space)
     std::vector<std::vector<int>> adj;
     std::vector<char> alive;
     const std::vector<float>* dist2 = nullptr;  // squared distance per padded voxel
@@ -718,7 +718,7 @@ void pruneSpurs(WorkGraph& g, const SkeletonOptions& opt) {
 
 /// The passage direction at end `e`: principal axis of the last few chain nodes (at most
 /// `kEndNodes`, not past a junction), pointing out of the chain. Zero if the chain has one node.
-std::array<double, 3> endDirection(const WorkGraph& g, int e) {
+Vec3d endDirection(const WorkGraph& g, int e) {
     constexpr int kEndNodes = 8;
     std::vector<int> chain{e};
     if (g.degree(e) == 1) {
@@ -733,33 +733,28 @@ std::array<double, 3> endDirection(const WorkGraph& g, int e) {
         }
     }
     if (chain.size() < 2) return {0, 0, 0};
-    std::array<double, 3> c{0, 0, 0};
-    for (const int u : chain)
-        for (int d = 0; d < 3; ++d) c[std::size_t(d)] += g.pos[std::size_t(u)][std::size_t(d)];
+    Vec3d c{0, 0, 0};
+    for (const int u : chain) c = add(c, g.pos[std::size_t(u)]);
     for (double& x : c) x /= double(chain.size());
-    double cov[3][3] = {};
+    std::array<Vec3d, 3> cov{};  // scatter matrix, row by row (symmetric)
     for (const int u : chain) {
-        const auto& p = g.pos[std::size_t(u)];
-        for (int r = 0; r < 3; ++r)
-            for (int q = 0; q < 3; ++q)
-                cov[r][q] += (p[std::size_t(r)] - c[std::size_t(r)]) * (p[std::size_t(q)] - c[std::size_t(q)]);
+        const Vec3d d = sub(g.pos[std::size_t(u)], c);
+        for (std::size_t r = 0; r < 3; ++r) cov[r] = add(cov[r], scale(d, d[r]));
     }
     // Power iteration from the chord end → far end (deterministic; the chain is elongated).
-    const auto& pe = g.pos[std::size_t(e)];
-    const auto& pf = g.pos[std::size_t(chain.back())];
-    std::array<double, 3> v{pe[0] - pf[0], pe[1] - pf[1], pe[2] - pf[2]};
+    const Vec3d chord = sub(g.pos[std::size_t(e)], g.pos[std::size_t(chain.back())]);
+    Vec3d v = chord;
     for (int it = 0; it < 64; ++it) {
-        std::array<double, 3> w{};
-        for (int r = 0; r < 3; ++r) w[std::size_t(r)] = cov[r][0] * v[0] + cov[r][1] * v[1] + cov[r][2] * v[2];
-        const double n = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        const Vec3d w{dot(cov[0], v), dot(cov[1], v), dot(cov[2], v)};
+        const double n = norm(w);
         if (!(n > 0)) break;
-        for (int r = 0; r < 3; ++r) v[std::size_t(r)] = w[std::size_t(r)] / n;
+        for (std::size_t r = 0; r < 3; ++r) v[r] = w[r] / n;
     }
-    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const double n = norm(v);
     if (!(n > 0)) return {0, 0, 0};
     for (double& x : v) x /= n;
     // Point away from the chain: along end − far end.
-    if (v[0] * (pe[0] - pf[0]) + v[1] * (pe[1] - pf[1]) + v[2] * (pe[2] - pf[2]) < 0)
+    if (dot(v, chord) < 0)
         for (double& x : v) x = -x;
     return v;
 }
@@ -767,7 +762,7 @@ std::array<double, 3> endDirection(const WorkGraph& g, int e) {
 /// Distance (voxels) from the centre of voxel `c` along the unit direction `u` to where the ray
 /// leaves the cave (enters a background voxel or leaves the grid), at most `maxDistance`. Voxel
 /// traversal of Amanatides & Woo (1987); a ray through an edge or corner steps diagonally.
-double exitDistance(const Padded& cave, const Index3& c, const std::array<double, 3>& u, double maxDistance) {
+double exitDistance(const Padded& cave, const Index3& c, const Vec3d& u, double maxDistance) {
     int step[3];
     double tMax[3], tDelta[3];
     for (int a = 0; a < 3; ++a) {
@@ -840,7 +835,7 @@ void extendEnds(WorkGraph& g, const Padded& cave) {
         const int e = path[best];
         const double trimmed = walkedTo[best];
 
-        const std::array<double, 3> dir = endDirection(g, e);
+        const Vec3d dir = endDirection(g, e);
         const double big = std::max({std::abs(dir[0]), std::abs(dir[1]), std::abs(dir[2])});
         if (!(big > 0)) continue;
         const Index3 a = g.ijk[std::size_t(e)];
@@ -864,9 +859,9 @@ void extendEnds(WorkGraph& g, const Padded& cave) {
 }
 
 /// Step 5b: Laplacian smoothing of chain nodes (voxel units, relative to the voxel centres).
-std::vector<std::array<double, 3>> smoothPositions(const WorkGraph& g, const Padded& cave, const SkeletonOptions& opt) {
+std::vector<Vec3d> smoothPositions(const WorkGraph& g, const Padded& cave, const SkeletonOptions& opt) {
     const int n = g.size();
-    std::vector<std::array<double, 3>> p = g.pos, next;
+    std::vector<Vec3d> p = g.pos, next;
     std::vector<int> movable;
     for (int u = 0; u < n; ++u)
         if (g.alive[std::size_t(u)] && g.degree(u) == 2) movable.push_back(u);
@@ -878,7 +873,7 @@ std::vector<std::array<double, 3>> smoothPositions(const WorkGraph& g, const Pad
             const auto& a = p[std::size_t(l[0])];
             const auto& b = p[std::size_t(l[1])];
             const auto& x = p[std::size_t(u)];
-            std::array<double, 3> y;
+            Vec3d y;
             for (int d = 0; d < 3; ++d)
                 y[std::size_t(d)] =
                     x[std::size_t(d)] + w * (0.5 * (a[std::size_t(d)] + b[std::size_t(d)]) - x[std::size_t(d)]);
@@ -902,13 +897,12 @@ std::vector<std::array<double, 3>> smoothPositions(const WorkGraph& g, const Pad
 
 void validate(const Grid3<std::uint8_t>& mask) {
     const Dims& d = mask.dims;
-    if (d.nx < 0 || d.ny < 0 || d.nz < 0)
-        throw InputError("skeleton: negative grid extent " + std::to_string(d.nx) + "×" + std::to_string(d.ny) + "×" +
-                         std::to_string(d.nz));
-    if (mask.data.size() != d.count())
-        throw InputError("skeleton: the mask holds " + std::to_string(mask.data.size()) + " values for a " +
-                         std::to_string(d.nx) + "×" + std::to_string(d.ny) + "×" + std::to_string(d.nz) + " grid (" +
-                         std::to_string(d.count()) + " expected)");
+    CAVESIM_CHECK(d.nx >= 0 && d.ny >= 0 && d.nz >= 0, "skeleton: negative grid extent " + std::to_string(d.nx) + "×" +
+                                                           std::to_string(d.ny) + "×" + std::to_string(d.nz));
+    CAVESIM_CHECK(mask.data.size() == d.count(), "skeleton: the mask holds " + std::to_string(mask.data.size()) +
+                                                     " values for a " + std::to_string(d.nx) + "×" +
+                                                     std::to_string(d.ny) + "×" + std::to_string(d.nz) + " grid (" +
+                                                     std::to_string(d.count()) + " expected)");
 }
 
 }  // namespace
@@ -930,20 +924,17 @@ Grid3<std::uint8_t> thinToCurveSkeleton(const Grid3<std::uint8_t>& mask, bool fi
 
 Skeleton skeletonize(const Grid3<std::uint8_t>& mask, double voxelSize, const SkeletonOptions& options) {
     validate(mask);
-    if (!(std::isfinite(voxelSize) && voxelSize > 0))
-        throw InputError("skeleton: voxel size must be a finite positive length in metres, got " +
-                         std::to_string(voxelSize));
-    if (!(std::isfinite(options.pruneFactor) && options.pruneFactor >= 0))
-        throw InputError("skeleton: pruneFactor must be finite and ≥ 0, got " + std::to_string(options.pruneFactor));
-    if (!(std::isfinite(options.minSpurLength) && options.minSpurLength >= 0))
-        throw InputError("skeleton: minSpurLength must be finite and ≥ 0 voxels, got " +
-                         std::to_string(options.minSpurLength));
-    if (options.smoothingIterations < 0)
-        throw InputError("skeleton: smoothingIterations must be ≥ 0, got " +
-                         std::to_string(options.smoothingIterations));
-    if (!(options.smoothingWeight > 0 && options.smoothingWeight <= 1))
-        throw InputError("skeleton: smoothingWeight must lie in (0, 1], got " +
-                         std::to_string(options.smoothingWeight));
+    CAVESIM_CHECK(std::isfinite(voxelSize) && voxelSize > 0,
+                  "skeleton: voxel size must be a finite positive length in metres, got " + std::to_string(voxelSize));
+    CAVESIM_CHECK(std::isfinite(options.pruneFactor) && options.pruneFactor >= 0,
+                  "skeleton: pruneFactor must be finite and ≥ 0, got " + std::to_string(options.pruneFactor));
+    CAVESIM_CHECK(
+        std::isfinite(options.minSpurLength) && options.minSpurLength >= 0,
+        "skeleton: minSpurLength must be finite and ≥ 0 voxels, got " + std::to_string(options.minSpurLength));
+    CAVESIM_CHECK(options.smoothingIterations >= 0,
+                  "skeleton: smoothingIterations must be ≥ 0, got " + std::to_string(options.smoothingIterations));
+    CAVESIM_CHECK(options.smoothingWeight > 0 && options.smoothingWeight <= 1,
+                  "skeleton: smoothingWeight must lie in (0, 1], got " + std::to_string(options.smoothingWeight));
 
     Skeleton result;
     Padded cave = padMask(mask);
@@ -959,7 +950,7 @@ Skeleton skeletonize(const Grid3<std::uint8_t>& mask, double voxelSize, const Sk
     collapseJunctionClusters(g);
     pruneSpurs(g, options);
     if (options.extendEnds) extendEnds(g, cave);
-    const std::vector<std::array<double, 3>> pos = smoothPositions(g, cave, options);
+    const std::vector<Vec3d> pos = smoothPositions(g, cave, options);
 
     // Output: alive nodes by voxel index (the padded order is the inner order).
     std::vector<int> order;

@@ -1,5 +1,6 @@
 /// @file skeleton.h
-/// @brief The cave's centreline (curve skeleton) as a graph: DESIGN §5, issue 6.
+/// @brief The cave's centreline (curve skeleton) as a graph, the base of the network counts
+/// (docs/network-definitions.md) and of the measures of morphometry.h and graph_metrics.h.
 ///
 /// `skeletonize` turns the cave voxels into the `Skeleton` graph of skeleton_graph.h in five steps:
 ///
@@ -99,14 +100,14 @@ struct SkeletonOptions {
 ///                   world space, voxel (i, j, k) centred at ((i, j, k) + 0.5) · voxelSize
 /// @param options    see `SkeletonOptions`
 /// @return the skeleton; empty when the mask is empty
-/// @throw InputError if `voxelSize` is not finite and positive, the options are out of range, or
+/// @throw InternalError if `voxelSize` is not finite and positive, the options are out of range, or
 ///        `mask.data` does not hold `mask.dims.count()` values
 Skeleton skeletonize(const Grid3<std::uint8_t>& mask, double voxelSize, const SkeletonOptions& options = {});
 
 /// Steps 1–2 alone: the one-voxel-wide, topology-preserving curve skeleton of the voxels where
 /// `mask != 0`, as a mask (1 = skeleton voxel) on the same grid, index space.
 /// @param fillCavities  fill enclosed background pockets first (as `SkeletonOptions::fillCavities`)
-/// @throw InputError if `mask.data` does not hold `mask.dims.count()` values
+/// @throw InternalError if `mask.data` does not hold `mask.dims.count()` values
 Grid3<std::uint8_t> thinToCurveSkeleton(const Grid3<std::uint8_t>& mask, bool fillCavities = true);
 
 }  // namespace cavesim::morpho

@@ -12,13 +12,15 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/vec3.h"
+
 namespace cavesim::morpho {
 
 /// One centreline node.
 struct SkeletonNode {
-    std::array<double, 3> position{0, 0, 0};  ///< metres, world space, smoothed
-    double radius = 0.0;                      ///< metres: distance from the node's voxel to the nearest wall
-    std::size_t voxel = 0;                    ///< linear index (Dims::index) of the centreline voxel
+    Vec3d position{0, 0, 0};  ///< metres, world space, smoothed
+    double radius = 0.0;      ///< metres: distance from the node's voxel to the nearest wall
+    std::size_t voxel = 0;    ///< linear index (Dims::index) of the centreline voxel
 };
 
 /// The centreline graph. Edges are undirected, stored with `a < b`, without duplicates or self loops.

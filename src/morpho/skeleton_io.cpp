@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "core/check.h"
 #include "core/error.h"
 
 namespace cavesim::morpho {
@@ -31,27 +32,26 @@ void writeAtomic(const fs::path& dir, const std::string& name, const std::string
 }
 
 void checkSkeleton(const Skeleton& s, double voxelSize, const Dims& grid) {
-    if (!(std::isfinite(voxelSize) && voxelSize > 0))
-        throw InputError("skeleton files: voxel size must be a finite positive length, got " +
-                         std::to_string(voxelSize));
+    CAVESIM_CHECK(std::isfinite(voxelSize) && voxelSize > 0,
+                  "skeleton files: voxel size must be a finite positive length, got " + std::to_string(voxelSize));
     const std::size_t n = s.nodes.size();
     for (std::size_t i = 0; i < n; ++i) {
         const SkeletonNode& node = s.nodes[i];
         for (const double c : node.position)
-            if (!std::isfinite(c))
-                throw InputError("skeleton files: node " + std::to_string(i) + " has a non-finite position");
-        if (!std::isfinite(node.radius) || node.radius < 0)
-            throw InputError("skeleton files: node " + std::to_string(i) + " has an invalid radius");
-        if (node.voxel >= grid.count())
-            throw InputError("skeleton files: node " + std::to_string(i) + " stands on voxel " +
-                             std::to_string(node.voxel) + ", outside the " + std::to_string(grid.nx) + "×" +
-                             std::to_string(grid.ny) + "×" + std::to_string(grid.nz) + " grid");
+            CAVESIM_CHECK(std::isfinite(c), "skeleton files: node " + std::to_string(i) + " has a non-finite position");
+        CAVESIM_CHECK(
+            std::isfinite(node.radius) && node.radius >= 0,
+            "skeleton files: node " + std::to_string(i) + " has an invalid radius " + std::to_string(node.radius));
+        CAVESIM_CHECK(node.voxel < grid.count(), "skeleton files: node " + std::to_string(i) + " stands on voxel " +
+                                                     std::to_string(node.voxel) + ", outside the " +
+                                                     std::to_string(grid.nx) + "×" + std::to_string(grid.ny) + "×" +
+                                                     std::to_string(grid.nz) + " grid");
     }
     for (std::size_t e = 0; e < s.edges.size(); ++e) {
         const auto& ed = s.edges[e];
-        if (ed[0] < 0 || ed[1] < 0 || std::size_t(ed[0]) >= n || std::size_t(ed[1]) >= n || ed[0] >= ed[1])
-            throw InputError("skeleton files: edge " + std::to_string(e) + " (" + std::to_string(ed[0]) + ", " +
-                             std::to_string(ed[1]) + ") must join two distinct nodes a < b of " + std::to_string(n));
+        CAVESIM_CHECK(ed[0] >= 0 && ed[1] >= 0 && std::size_t(ed[0]) < n && std::size_t(ed[1]) < n && ed[0] < ed[1],
+                      "skeleton files: edge " + std::to_string(e) + " (" + std::to_string(ed[0]) + ", " +
+                          std::to_string(ed[1]) + ") must join two distinct nodes a < b of " + std::to_string(n));
     }
 }
 

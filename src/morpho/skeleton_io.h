@@ -1,5 +1,5 @@
 /// @file skeleton_io.h
-/// @brief Skeleton files of a run (DESIGN §4): `skeleton.json` and karstnet's
+/// @brief Skeleton files of a run (README.md, outputs): `skeleton.json` and karstnet's
 /// `skeleton_nodes.dat` / `skeleton_links.dat`.
 ///
 /// `skeleton.json` (metres, world space; node ids 0-based):
@@ -30,7 +30,7 @@ namespace cavesim::morpho {
 /// @param voxelSize  voxel edge length in metres (> 0), recorded as `voxel_size_m`
 /// @param grid       the grid the skeleton was computed on (index space), recorded as `grid`; node
 ///                   voxels are decoded with it
-/// @throw InputError if the skeleton is malformed (edge out of range, a ≥ b, non-finite position
+/// @throw InternalError if the skeleton is malformed (edge out of range, a ≥ b, non-finite position
 ///        or radius, a voxel outside `grid`) or `voxelSize` is not finite and positive
 /// @throw RuntimeError if `dir` is not a directory or a file cannot be written or renamed
 void writeSkeletonFiles(const Skeleton& skeleton, const std::string& dir, double voxelSize, const Dims& grid);

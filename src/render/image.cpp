@@ -4,7 +4,7 @@
 #include <cmath>
 #include <unordered_set>
 
-#include "core/error.h"
+#include "core/check.h"
 
 namespace cavesim::render {
 
@@ -238,7 +238,7 @@ void blit(Image& dst, const Image& src, int x, int y) {
 }
 
 Image downsample(const Image& src, int factor) {
-    if (factor < 1) throw InputError("downsample: factor must be at least 1, got " + std::to_string(factor));
+    CAVESIM_CHECK(factor >= 1, "downsample: factor must be at least 1, got " + std::to_string(factor));
     if (factor == 1) return src;
     Image out((src.width + factor - 1) / factor, (src.height + factor - 1) / factor);
     for (int y = 0; y < out.height; ++y)
@@ -249,8 +249,9 @@ Image downsample(const Image& src, int factor) {
                     const Rgb c = src.get(u, v);
                     sum[0] += c.r, sum[1] += c.g, sum[2] += c.b, ++n;
                 }
-            out.set(x, y, {std::uint8_t((sum[0] + n / 2) / n), std::uint8_t((sum[1] + n / 2) / n),
-                           std::uint8_t((sum[2] + n / 2) / n)});
+            out.set(x, y,
+                    {std::uint8_t((sum[0] + n / 2) / n), std::uint8_t((sum[1] + n / 2) / n),
+                     std::uint8_t((sum[2] + n / 2) / n)});
         }
     return out;
 }

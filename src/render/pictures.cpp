@@ -6,7 +6,7 @@
 #include <functional>
 #include <map>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "render/colormap.h"
 #include "render/png_io.h"
 #include "render/view.h"
@@ -16,8 +16,7 @@ namespace cavesim::render {
 namespace {
 
 void checkWidth(int width) {
-    if (width < 64 || width > 16384)
-        throw InputError("picture width must be in [64, 16384], got " + std::to_string(width));
+    CAVESIM_CHECK(width >= 64 && width <= 16384, "picture width must be in [64, 16384], got " + std::to_string(width));
 }
 
 bool isSection(const Domain& d) {
@@ -347,11 +346,12 @@ Image stackVertically(const std::vector<Image>& images) {
 }
 
 Image composeStrip(const std::vector<Image>& frames, int rows) {
-    if (frames.empty()) throw InputError("composeStrip: no frames");
-    if (rows < 1) throw InputError("composeStrip: rows must be at least 1, got " + std::to_string(rows));
+    CAVESIM_CHECK(!frames.empty(), "composeStrip: no frames");
+    CAVESIM_CHECK(rows >= 1, "composeStrip: rows must be at least 1, got " + std::to_string(rows));
     int cw = 0, ch = 0;
     for (const Image& f : frames) {
-        if (f.width <= 0 || f.height <= 0) throw InputError("composeStrip: an empty frame");
+        CAVESIM_CHECK(f.width > 0 && f.height > 0, "composeStrip: an empty frame (" + std::to_string(f.width) + "×" +
+                                                       std::to_string(f.height) + ")");
         cw = std::max(cw, f.width), ch = std::max(ch, f.height);
     }
     rows = std::min<int>(rows, int(frames.size()));

@@ -21,7 +21,7 @@ namespace cavesim::render {
 /// own colour (plan view: the zone holding most voxels of each column), protochannels drawn dark
 /// on top (projected from all depths), zone borders, sources and sinks, a legend with each zone's
 /// source, pressure and size. Written as PNG through a temporary file.
-/// @throw InputError if width is outside [64, 16384]; RuntimeError when the file cannot be written
+/// @throw InternalError if width is outside [64, 16384]; RuntimeError when the file cannot be written
 void writeZonesPicture(const Domain& domain, const std::string& path, int width);
 /// The zones figure as an image (writeZonesPicture without the file).
 Image zonesPicture(const Domain& domain, int width);
@@ -31,7 +31,7 @@ Image zonesPicture(const Domain& domain, int width);
 /// holding most; linear colour bar. Flow: the section, or the largest flow along each column
 /// (plan) and row (x–z); logarithmic colour bar over four decades. The voxels of `mask` (the
 /// cave) are outlined.
-/// @throw InputError if width is outside [64, 16384]; RuntimeError when a file cannot be written
+/// @throw InternalError if width is outside [64, 16384]; RuntimeError when a file cannot be written
 void writeFieldPictures(const Domain& domain, const Grid3<std::uint8_t>& mask, const std::string& imagesDir, int width);
 /// The pressure and flow figures as images (writeFieldPictures without the files).
 Image pressurePicture(const Domain& domain, const Grid3<std::uint8_t>& mask, int width);
@@ -41,12 +41,12 @@ Image flowPicture(const Domain& domain, const Grid3<std::uint8_t>& mask, int wid
 /// (ny = 1) is drawn like the paper's Figure 8: the porosity (channels dark) with, under it,
 /// pressure and flow. A block is drawn as a plan: the largest porosity of each column in greys
 /// with the cave coloured by the height of its top.
-/// @throw InputError if width is outside [64, 16384]
+/// @throw InternalError if width is outside [64, 16384]
 Image stateFrame(const Domain& domain, const Grid3<std::uint8_t>& mask, const std::string& title, int width);
 
 /// Frames laid out in `rows` rows (filled left to right, top to bottom) with a small white gap,
 /// e.g. images/sequence.png with rows = 1.
-/// @throw InputError if `frames` is empty, a frame is empty or rows < 1
+/// @throw InternalError if `frames` is empty, a frame is empty or rows < 1
 Image composeStrip(const std::vector<Image>& frames, int rows);
 
 /// Stacks images top to bottom, each centred horizontally.

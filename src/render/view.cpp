@@ -5,31 +5,11 @@
 #include <cstdio>
 #include <limits>
 
-#include "core/error.h"
+#include "core/check.h"
 #include "render/colormap.h"
 
 namespace cavesim::render {
 namespace {
-
-Vec3 sub(const Vec3& a, const Vec3& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-Vec3 add(const Vec3& a, const Vec3& b) {
-    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
-}
-Vec3 mul(const Vec3& a, double s) {
-    return {a[0] * s, a[1] * s, a[2] * s};
-}
-double dot(const Vec3& a, const Vec3& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-Vec3 cross(const Vec3& a, const Vec3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec3 normalise(const Vec3& a) {
-    const double n = std::sqrt(dot(a, a));
-    return n > 0 ? mul(a, 1.0 / n) : a;
-}
 
 int cellW(int ts) {
     return 6 * ts;
@@ -63,8 +43,8 @@ const Rgb kOutline{60, 60, 66};
 const Rgb kFaintOutline{150, 150, 158};
 
 // The 8 corners of the block, bit a of the index = upper end on axis a.
-std::array<Vec3, 8> corners(const Vec3& m) {
-    std::array<Vec3, 8> c{};
+std::array<Vec3d, 8> corners(const Vec3d& m) {
+    std::array<Vec3d, 8> c{};
     for (int b = 0; b < 8; ++b) c[b] = {(b & 1) ? m[0] : 0.0, (b & 2) ? m[1] : 0.0, (b & 4) ? m[2] : 0.0};
     return c;
 }
@@ -90,9 +70,9 @@ std::array<Edge, 12> blockEdges() {
 // Is face f (2·axis + side) of the block turned toward the camera?
 bool faceVisible(const Frame& f, int face) {
     const int axis = face / 2, side = face % 2;
-    Vec3 n{0, 0, 0};
+    Vec3d n{0, 0, 0};
     n[axis] = side ? 1.0 : -1.0;
-    Vec3 p{f.blockMax[0] / 2, f.blockMax[1] / 2, f.blockMax[2] / 2};
+    Vec3d p{f.blockMax[0] / 2, f.blockMax[1] / 2, f.blockMax[2] / 2};
     p[axis] = side ? f.blockMax[axis] : 0.0;
     if (f.camera.perspective) return dot(n, sub(f.camera.eye, p)) > 0.0;
     return dot(n, f.camera.forward) < 0.0;
@@ -135,8 +115,8 @@ std::vector<double> ticks(double extent, double step) {
 
 // --- Camera ------------------------------------------------------------------------------------
 
-Camera::Projected Camera::project(const Vec3& world) const {
-    const Vec3 d = sub(world, eye);
+Camera::Projected Camera::project(const Vec3d& world) const {
+    const Vec3d d = sub(world, eye);
     const double x = dot(d, right), y = dot(d, up), z = dot(d, forward);
     Projected p;
     p.depth = z;
@@ -151,13 +131,13 @@ Camera::Projected Camera::project(const Vec3& world) const {
     return p;
 }
 
-void Camera::ray(double px, double py, Vec3& origin, Vec3& direction) const {
+void Camera::ray(double px, double py, Vec3d& origin, Vec3d& direction) const {
     const double a = (px - cx) / scale, b = -(py - cy) / scale;
     if (perspective) {
         origin = eye;
-        direction = normalise(add(forward, add(mul(right, a), mul(up, b))));
+        direction = normalized(add(forward, add(cavesim::scale(right, a), cavesim::scale(up, b))));
     } else {
-        origin = add(eye, add(mul(right, a), mul(up, b)));
+        origin = add(eye, add(cavesim::scale(right, a), cavesim::scale(up, b)));
         direction = forward;
     }
 }
@@ -187,10 +167,12 @@ int footerRowY(const Frame& frame, int row) {
 }
 
 Frame makeFrame(View view, const Dims& dims, double voxelSize, int width, int footerRows) {
-    if (width < 64) throw InputError("picture width must be at least 64 pixels, got " + std::to_string(width));
-    if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-        throw InputError("voxel size must be a positive number of metres");
-    if (dims.nx <= 0 || dims.ny <= 0 || dims.nz <= 0) throw InputError("cannot frame an empty block");
+    CAVESIM_CHECK(width >= 64, "picture width must be at least 64 pixels, got " + std::to_string(width));
+    CAVESIM_CHECK(voxelSize > 0.0 && std::isfinite(voxelSize),
+                  "voxel size must be a positive number of metres, got " + std::to_string(voxelSize));
+    CAVESIM_CHECK(dims.nx > 0 && dims.ny > 0 && dims.nz > 0, "cannot frame an empty block " + std::to_string(dims.nx) +
+                                                                 "×" + std::to_string(dims.ny) + "×" +
+                                                                 std::to_string(dims.nz));
     Frame f;
     f.view = view;
     f.width = width;
@@ -200,7 +182,7 @@ Frame makeFrame(View view, const Dims& dims, double voxelSize, int width, int fo
     const int ts = textScaleFor(width);
     f.textScale = ts;
     f.blockMax = {dims.nx * voxelSize, dims.ny * voxelSize, dims.nz * voxelSize};
-    const Vec3& m = f.blockMax;
+    const Vec3d& m = f.blockMax;
     const int left = leftMargin(ts), right = rightMargin(ts), top = topBand(ts);
     const int availW = std::max(16, width - left - right);
     const double maxVh = 1.25 * width;
@@ -238,22 +220,22 @@ Frame makeFrame(View view, const Dims& dims, double voxelSize, int width, int fo
         cam.cx = f.vx + 0.5 * f.vw;
         cam.cy = f.vy + 0.5 * f.vh;
     } else {
-        const Vec3 centre{m[0] / 2, m[1] / 2, m[2] / 2};
+        const Vec3d centre{m[0] / 2, m[1] / 2, m[2] / 2};
         const double azimuth = 35.0 * 3.14159265358979323846 / 180.0;
         const double elevation = 30.0 * 3.14159265358979323846 / 180.0;
-        const Vec3 toEye{-std::sin(azimuth) * std::cos(elevation), -std::cos(azimuth) * std::cos(elevation),
-                         std::sin(elevation)};
+        const Vec3d toEye{-std::sin(azimuth) * std::cos(elevation), -std::cos(azimuth) * std::cos(elevation),
+                          std::sin(elevation)};
         const double radius = 0.5 * std::sqrt(dot(m, m));
         cam.perspective = true;
-        cam.eye = add(centre, mul(toEye, 2.8 * radius));
-        cam.forward = normalise(mul(toEye, -1.0));
-        cam.right = normalise(cross(cam.forward, {0, 0, 1}));
+        cam.eye = add(centre, cavesim::scale(toEye, 2.8 * radius));
+        cam.forward = normalized(cavesim::scale(toEye, -1.0));
+        cam.right = normalized(cross(cam.forward, {0, 0, 1}));
         cam.up = cross(cam.right, cam.forward);
         cam.scale = 1.0;
         cam.cx = cam.cy = 0.0;
         double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
         f.depthMin = 1e300, f.depthMax = -1e300;
-        for (const Vec3& c : corners(m)) {
+        for (const Vec3d& c : corners(m)) {
             const auto p = cam.project(c);
             x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
             f.depthMin = std::min(f.depthMin, p.depth), f.depthMax = std::max(f.depthMax, p.depth);
@@ -306,7 +288,7 @@ CellGrid cellGrid(const Frame& f) {
     }
 }
 
-Vec3 viewPlanePoint(const Frame& f, double u, double v) {
+Vec3d viewPlanePoint(const Frame& f, double u, double v) {
     const double h = f.voxelSize;
     switch (f.view) {
         case View::kPlan:
@@ -326,7 +308,7 @@ void fillCells(Image& img, const Frame& f, const std::function<Rgb(int, int)>& c
     // Pixel column → u and row → v (the projection is axis-aligned).
     std::vector<int> us(std::size_t(f.vw)), vs(std::size_t(f.vh));
     const double h = f.voxelSize, s = f.camera.scale;
-    const Vec3 origin = viewPlanePoint(f, 0, 0);
+    const Vec3d origin = viewPlanePoint(f, 0, 0);
     const auto o = f.camera.project(origin);
     for (int x = 0; x < f.vw; ++x) us[x] = std::clamp(int(std::floor((f.vx + x + 0.5 - o.x) / (s * h))), 0, g.nu - 1);
     for (int y = 0; y < f.vh; ++y) vs[y] = std::clamp(int(std::floor((o.y - (f.vy + y + 0.5)) / (s * h))), 0, g.nv - 1);
@@ -451,15 +433,15 @@ AxisNames axisNames(View view) {
 
 void drawPerspectiveAxes(Image& img, const Frame& f) {
     const int ts = f.textScale;
-    const Vec3& m = f.blockMax;
+    const Vec3d& m = f.blockMax;
     const auto centre = f.camera.project({m[0] / 2, m[1] / 2, m[2] / 2});
     // Three edges through the corner (0, 0, 0), nearest the viewer: x along y = z = 0, y along
     // x = z = 0, z along x = y = 0. Labels sit outside the block, away from its centre; the
     // corner's 0 is written once (on the x axis).
-    const Vec3 origin{0, 0, 0};
+    const Vec3d origin{0, 0, 0};
     const char* names[3] = {"x (m)", "y (m)", "z (m)"};
     for (int axis = 0; axis < 3; ++axis) {
-        Vec3 end = origin;
+        Vec3d end = origin;
         end[axis] = m[axis];
         const auto p0 = f.camera.project(origin), p1 = f.camera.project(end);
         const double ex = p1.x - p0.x, ey = p1.y - p0.y, len = std::hypot(ex, ey);
@@ -473,7 +455,7 @@ void drawPerspectiveAxes(Image& img, const Frame& f) {
         if (ticked) {
             const double step = tickStep(m[axis], len / m[axis], textWidth("0000", ts) + cellW(ts));
             for (double t : ticks(m[axis], step)) {
-                Vec3 w = origin;
+                Vec3d w = origin;
                 w[axis] = t;
                 const auto p = f.camera.project(w);
                 drawLine(img, p.x, p.y, p.x + nx * 6 * ts, p.y + ny * 6 * ts, kOutline, std::max(1, ts / 2));
@@ -575,7 +557,7 @@ int drawScaleBar(Image& img, const Frame& f, int x, int y) {
     const int ts = f.textScale;
     double pxPerMetre = f.camera.scale;
     if (f.camera.perspective) {
-        const Vec3& m = f.blockMax;
+        const Vec3d& m = f.blockMax;
         const auto p = f.camera.project({m[0] / 2, m[1] / 2, m[2] / 2});
         pxPerMetre = f.camera.scale / std::max(p.depth, 1e-12);
     }
@@ -598,7 +580,7 @@ int drawScaleBar(Image& img, const Frame& f, int x, int y) {
 namespace {
 
 struct VoxelBoxInfo {
-    Vec3 lo, hi, centre;
+    Vec3d lo, hi, centre;
 };
 VoxelBoxInfo voxelBox(const std::vector<std::size_t>& voxels, const Dims& dims, double h) {
     VoxelBoxInfo b{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}, {0, 0, 0}};

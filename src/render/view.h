@@ -19,18 +19,17 @@
 #include <vector>
 
 #include "core/grid.h"
+#include "core/vec3.h"
 #include "render/image.h"
 #include "sim/domain.h"
 
 namespace cavesim::render {
 
-using Vec3 = std::array<double, 3>;
-
 /// Projection of world space (metres) onto pixels: orthographic or perspective.
 struct Camera {
     bool perspective = false;
-    Vec3 eye{0, 0, 0};  ///< perspective: centre of projection; orthographic: a point on the central ray
-    Vec3 right{1, 0, 0}, up{0, 1, 0}, forward{0, 0, -1};  ///< orthonormal; forward = viewing direction
+    Vec3d eye{0, 0, 0};  ///< perspective: centre of projection; orthographic: a point on the central ray
+    Vec3d right{1, 0, 0}, up{0, 1, 0}, forward{0, 0, -1};  ///< orthonormal; forward = viewing direction
     double scale = 1.0;         ///< orthographic: pixels per metre; perspective: focal length in pixels
     double cx = 0.0, cy = 0.0;  ///< pixel position of the central ray
 
@@ -39,10 +38,10 @@ struct Camera {
     struct Projected {
         double x = 0, y = 0, depth = 0;
     };
-    Projected project(const Vec3& world) const;
+    Projected project(const Vec3d& world) const;
     /// The ray through continuous pixel position (px, py): origin and unit direction. Orthographic
     /// rays start on the plane through `eye` normal to `forward`.
-    void ray(double px, double py, Vec3& origin, Vec3& direction) const;
+    void ray(double px, double py, Vec3d& origin, Vec3d& direction) const;
 };
 
 enum class View { kPlan, kSideXZ, kSideYZ, kPerspective };
@@ -59,7 +58,7 @@ struct Frame {
     int footerRows = 0;
     int textScale = 1;  ///< font scale (glyph cell 6×8 px times this)
     Camera camera;
-    Vec3 blockMax{0, 0, 0};             ///< the block spans [0, blockMax] metres
+    Vec3d blockMax{0, 0, 0};            ///< the block spans [0, blockMax] metres
     double depthMin = 0, depthMax = 1;  ///< depth range of the block along the view, metres
     double voxelSize = 1.0;
     Dims dims;
@@ -68,7 +67,7 @@ struct Frame {
 /// Frames the block of `dims` voxels of edge `voxelSize` metres for `view` in a picture
 /// `width` pixels wide with `footerRows` legend rows. The picture's height follows from the
 /// block's proportions (the viewport is at most 1.25 × width tall).
-/// @throw InputError if width < 64, voxelSize <= 0 or dims has a zero extent
+/// @throw InternalError if width < 64, voxelSize <= 0 or dims has a zero extent
 Frame makeFrame(View view, const Dims& dims, double voxelSize, int width, int footerRows = 2);
 
 /// Height in pixels of one footer row.
@@ -93,7 +92,7 @@ void outlineCells(Image& img, const Frame& frame, const std::function<bool(int u
                   int thickness = 1);
 /// World position (metres) of continuous cell coordinate (u, v) on the block's face nearest the
 /// viewer (orthographic views; cell (u, v) spans [u, u+1) × [v, v+1)).
-Vec3 viewPlanePoint(const Frame& frame, double u, double v);
+Vec3d viewPlanePoint(const Frame& frame, double u, double v);
 
 // --- Annotations -------------------------------------------------------------------------------
 

@@ -7,12 +7,15 @@
 
 #include <tbb/global_control.h>
 
+#include "core/error.h"
 #include "fastmarch/fast_marching.h"
 
 namespace cavesim::fastmarch {
 namespace {
 
-Grid3<float> ones(const Dims& d) { return Grid3<float>(d, 1.0f); }
+Grid3<float> ones(const Dims& d) {
+    return Grid3<float>(d, 1.0f);
+}
 
 TEST(UpwindUpdate, OneTwoThreeAxes) {
     const double inf = std::numeric_limits<double>::infinity();
@@ -45,8 +48,8 @@ TEST(Eikonal, PointDistanceFirstOrder) {
     double maxRelNear = 0, maxRel = 0;  // 5 <= r < 10, and r >= 15
     for (std::size_t n = 0; n < d.count(); ++n) {
         const Index3 p = d.coord(n);
-        const double r = std::sqrt(double((p.i - c.i) * (p.i - c.i) + (p.j - c.j) * (p.j - c.j) +
-                                          (p.k - c.k) * (p.k - c.k)));
+        const double r =
+            std::sqrt(double((p.i - c.i) * (p.i - c.i) + (p.j - c.j) * (p.j - c.j) + (p.k - c.k) * (p.k - c.k)));
         if (r < 5) continue;
         const double t = f.value()[n];
         EXPECT_GE(t, r - 1e-9);  // the first-order scheme overestimates the distance
@@ -205,8 +208,8 @@ TEST(Labelled, ParallelFrontsEqualOneAtATimeForAnyThreadCount) {
     for (float& v : s.data) v = u(rng);
     for (std::size_t v = 0; v < s.size(); v += 37) s[v] = std::numeric_limits<float>::infinity();
     const std::vector<double> speed{1.0, 1.7, 0.8, 1.2, 2.5};
-    const std::vector<Seed> seeds{{d.index(2, 3, 4), 0, 0},  {d.index(20, 3, 1), 0.5, 1}, {d.index(11, 15, 7), 0, 2},
-                                  {d.index(12, 15, 7), 0, 2}, {d.index(5, 10, 0), 0, 4},  {d.index(2, 3, 4), 0, 4}};
+    const std::vector<Seed> seeds{{d.index(2, 3, 4), 0, 0},   {d.index(20, 3, 1), 0.5, 1}, {d.index(11, 15, 7), 0, 2},
+                                  {d.index(12, 15, 7), 0, 2}, {d.index(5, 10, 0), 0, 4},   {d.index(2, 3, 4), 0, 4}};
     LabelledArrival expect{Grid3<double>(d, std::numeric_limits<double>::infinity()), Grid3<std::int32_t>(d, -1)};
     for (int label = 0; label < int(speed.size()); ++label) {
         std::vector<Seed> own;
@@ -225,8 +228,7 @@ TEST(Labelled, ParallelFrontsEqualOneAtATimeForAnyThreadCount) {
         const auto got = marchLabelled(d, &s, seeds, speed);
         ASSERT_EQ(got.label.data, expect.label.data) << threads << " thread(s)";
         for (std::size_t v = 0; v < d.count(); ++v)
-            ASSERT_TRUE(got.time[v] == expect.time[v] || (std::isinf(got.time[v]) && std::isinf(expect.time[v])))
-                << v;
+            ASSERT_TRUE(got.time[v] == expect.time[v] || (std::isinf(got.time[v]) && std::isinf(expect.time[v]))) << v;
     }
     // Label 4 shares a seed voxel with label 0 at the same time: the lower label keeps it.
     EXPECT_EQ(expect.label[d.index(2, 3, 4)], 0);
@@ -235,9 +237,9 @@ TEST(Labelled, ParallelFrontsEqualOneAtATimeForAnyThreadCount) {
 
 TEST(Labelled, BadInputThrows) {
     const Dims d{3, 3, 3};
-    EXPECT_THROW(marchLabelled(d, nullptr, {{100, 0, 0}}, {1.0}), std::invalid_argument);
-    EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 2}}, {1.0}), std::invalid_argument);
-    EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 0}}, {0.0}), std::invalid_argument);
+    EXPECT_THROW(marchLabelled(d, nullptr, {{100, 0, 0}}, {1.0}), InternalError);
+    EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 2}}, {1.0}), InternalError);
+    EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 0}}, {0.0}), InternalError);
 }
 
 }  // namespace

@@ -7,9 +7,10 @@
 #include <random>
 #include <set>
 
+#include "core/error.h"
 #include "flownet/flow_network.h"
-#include "test_util.h"
 #include "flownet/protosinks.h"
+#include "test_util.h"
 
 namespace cavesim::flownet {
 namespace {
@@ -102,20 +103,20 @@ TEST(FlowNetwork, ResistanceJitterIsBoundedSymmetricAndSeeded) {
 TEST(FlowNetwork, BadInputThrows) {
     const Dims d{3, 1, 1};
     const Grid3<float> R(d, 0.1f);
-    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 2}, {5}, {0}), std::invalid_argument);  // source not a node
-    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 2}, {1}, {1}), std::invalid_argument);  // source = protosink
-    EXPECT_THROW(buildFlowNetwork(R, {0, 2, 1}, {0}, {2}), std::invalid_argument);  // not increasing
-    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 7}, {0}, {1}), std::invalid_argument);  // outside the grid
+    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 2}, {5}, {0}), InternalError);  // source not a node
+    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 2}, {1}, {1}), InternalError);  // source = protosink
+    EXPECT_THROW(buildFlowNetwork(R, {0, 2, 1}, {0}, {2}), InternalError);  // not increasing
+    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 7}, {0}, {1}), InternalError);  // outside the grid
     FlowNetworkOptions o;
     o.capacityExponent = 0;
-    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 2}, {0}, {2}, o), std::invalid_argument);
+    EXPECT_THROW(buildFlowNetwork(R, {0, 1, 2}, {0}, {2}, o), InternalError);
     o = {};
     o.maxNodes = 2;
     EXPECT_THROW(buildFlowNetwork(R, {0, 1, 2}, {0}, {2}, o), std::length_error);
-    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 2, 1}}, {0}, {1}), std::invalid_argument);
-    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 1, -1}}, {0}, {1}), std::invalid_argument);
-    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 1, 1}, {0, 1, 2}}, {0}, {1}), std::invalid_argument);
-    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 1, 1, 1}, {1, 0, 1, 2}}, {0}, {1}), std::invalid_argument);
+    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 2, 1}}, {0}, {1}), InternalError);
+    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 1, -1}}, {0}, {1}), InternalError);
+    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 1, 1}, {0, 1, 2}}, {0}, {1}), InternalError);
+    EXPECT_THROW(flowNetworkFromArcs(2, {{0, 1, 1, 1}, {1, 0, 1, 2}}, {0}, {1}), InternalError);
 }
 
 TEST(FlowNetwork, EmptyAndSingleVoxelNetworks) {
@@ -150,7 +151,7 @@ TEST(Protosinks, BoundaryBetweenZonesAndOnChosenFaces) {
     // All faces: every voxel of zone 0 but the interior ones (x = 1, y = 1..2, z = 1) … minus the hole.
     EXPECT_EQ(zoneBoundary(labels, zone0, 0, all).size(), zone0.size() - 1u);
     std::vector<std::size_t> wrong{d.index(4, 0, 0)};
-    EXPECT_THROW(zoneBoundary(labels, wrong, 0, all), std::invalid_argument);
+    EXPECT_THROW(zoneBoundary(labels, wrong, 0, all), InternalError);
 }
 
 TEST(Protosinks, FacesOfExtentOneAreNotBoundary) {
@@ -180,7 +181,7 @@ TEST(Protosinks, ClusterCentresAreReproducibleAndSpread) {
     // Fewer candidates than clusters: all of them.
     std::mt19937_64 e(1);
     EXPECT_EQ(chooseClusterCentres(d, {3, 9}, 4, {}, e), (std::vector<std::size_t>{3, 9}));
-    EXPECT_THROW(chooseClusterCentres(d, candidates, 0, {}, e), std::invalid_argument);
+    EXPECT_THROW(chooseClusterCentres(d, candidates, 0, {}, e), InternalError);
     EXPECT_TRUE(chooseClusterCentres(d, {}, 3, {}, e).empty());
 }
 
@@ -208,7 +209,7 @@ TEST(Protosinks, ClusterIsTheBallOfGivenRadius) {
             for (int i = -2; i <= 2; ++i) expected += i * i + j * j + k * k <= 4;
     EXPECT_EQ(ball.size(), expected);  // 33
     EXPECT_EQ(clusterProtosinks(d, all, {5, 7}, 0.0), (std::vector<std::size_t>{5, 7}));
-    EXPECT_THROW(clusterProtosinks(d, all, {5}, -1.0), std::invalid_argument);
+    EXPECT_THROW(clusterProtosinks(d, all, {5}, -1.0), InternalError);
 }
 
 }  // namespace

@@ -7,9 +7,10 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.h"
 #include "flownet/flow_network.h"
-#include "test_util.h"
 #include "flownet/max_flow.h"
+#include "test_util.h"
 
 namespace cavesim::flownet {
 namespace {
@@ -294,13 +295,13 @@ TEST(MaxFlow, BadOptionsThrow) {
     const FlowNetwork net = flowNetworkFromArcs(2, {{0, 1, 1, 1}}, {0}, {1});
     LeastResistanceOptions o;
     o.tolerance = -1;
-    EXPECT_THROW(leastResistanceMaxFlow(net, o), std::invalid_argument);
+    EXPECT_THROW(leastResistanceMaxFlow(net, o), InternalError);
     o = {};
     o.maxPhases = 0;
-    EXPECT_THROW(leastResistanceMaxFlow(net, o), std::invalid_argument);
+    EXPECT_THROW(leastResistanceMaxFlow(net, o), InternalError);
     FlowNetwork broken = net;
     broken.capacity.pop_back();
-    EXPECT_THROW(maxFlow(broken), std::invalid_argument);
+    EXPECT_THROW(maxFlow(broken), InternalError);
 }
 
 TEST(MaxFlow, PhaseLimitStillGivesTheMaximumFlow) {

@@ -7,10 +7,11 @@
 #include <random>
 #include <set>
 
+#include "core/error.h"
 #include "flownet/flow_network.h"
-#include "test_util.h"
 #include "flownet/max_flow.h"
 #include "flownet/protochannels.h"
+#include "test_util.h"
 
 namespace cavesim::flownet {
 namespace {
@@ -160,12 +161,12 @@ TEST(Protochannels, BadInputThrows) {
     MaxFlowResult r = maxFlow(net);
     TraceOptions o;
     o.minBranchVoxels = 0;
-    EXPECT_THROW(traceProtochannels(net, r, o), std::invalid_argument);
+    EXPECT_THROW(traceProtochannels(net, r, o), InternalError);
     o = {};
     o.minThroughFraction = 2;
-    EXPECT_THROW(traceProtochannels(net, r, o), std::invalid_argument);
+    EXPECT_THROW(traceProtochannels(net, r, o), InternalError);
     r.flow.pop_back();
-    EXPECT_THROW(traceProtochannels(net, r), std::invalid_argument);
+    EXPECT_THROW(traceProtochannels(net, r), InternalError);
 }
 
 }  // namespace

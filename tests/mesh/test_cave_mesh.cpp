@@ -264,18 +264,18 @@ TEST(CaveMesh, RejectsBadOptions) {
     const Mask m({2, 2, 2}, 1);
     MeshOptions o;
     o.subdivision = 9;
-    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InputError);
+    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InternalError);
     o = {};
     o.tubeRadius = 0.1;
-    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InputError);
+    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InternalError);
     o = {};
     o.halfWidth = 2;
-    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InputError);
+    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InternalError);
     o = {};
     o.smoothingIterations = -1;
-    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InputError);
-    EXPECT_THROW(buildCaveMesh(m, 0.0), InputError);
-    EXPECT_THROW(buildCaveMesh(m, std::nan("")), InputError);
+    EXPECT_THROW(buildCaveMesh(m, 1.0, o), InternalError);
+    EXPECT_THROW(buildCaveMesh(m, 0.0), InternalError);
+    EXPECT_THROW(buildCaveMesh(m, std::nan("")), InternalError);
 }
 
 }  // namespace

@@ -144,9 +144,9 @@ TEST(CaveMeshFiles, RejectsBadInput) {
     const fs::path dir = freshDir("bad");
     MeshOptions o;
     o.adaptivity = 2.0;
-    EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), dir.string(), o), InputError);
+    EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), dir.string(), o), InternalError);
     EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), (dir / "no" / "such" / "dir").string()), RuntimeError);
-    EXPECT_THROW(writeMeshFile(TriangleMesh{}, (dir / "x.stl").string()), InputError);
+    EXPECT_THROW(writeMeshFile(TriangleMesh{}, (dir / "x.stl").string()), InternalError);
     EXPECT_THROW(readMeshFile((dir / "none.obj").string()), RuntimeError);
 }
 
@@ -179,7 +179,7 @@ TEST(MeasureMesh, DetectsOpenAndInconsistentMeshes) {
     EXPECT_FALSE(s.closed);
     TriangleMesh bad = t;
     bad.triangles[0][0] = 9;
-    EXPECT_THROW(measureMesh(bad), InputError);
+    EXPECT_THROW(measureMesh(bad), InternalError);
 }
 
 // --- Pictures -----------------------------------------------------------------------------------
@@ -235,7 +235,7 @@ TEST(CavePictures, WritesFourPngs) {
         const render::Image img = render::readPng((dir / "images" / name).string());
         EXPECT_EQ(img.width, 256) << name;
     }
-    EXPECT_THROW(writeCavePictures(makeCave(lChannel(), CaveExtent::kChannels), (dir / "images").string(), 10), InputError);
+    EXPECT_THROW(writeCavePictures(makeCave(lChannel(), CaveExtent::kChannels), (dir / "images").string(), 10), InternalError);
 }
 
 std::string fileBytes(const fs::path& p) {

@@ -424,7 +424,7 @@ TEST(GraphMetrics, JsonHasTheDesignKeysAndNullForUndefined) {
     std::vector<std::string> keys;
     for (const auto& r : realCaveRanges()) {
         keys.push_back(r.key);
-        EXPECT_LT(r.lo, r.hi);
+        EXPECT_LT(r.low, r.high);
         EXPECT_TRUE(j.contains(r.key));
     }
     EXPECT_EQ(keys, (std::vector<std::string>{"k_mean", "r_k", "spl", "cpd", "h_or", "len_mean_m", "cv_len", "h_len",
@@ -432,13 +432,13 @@ TEST(GraphMetrics, JsonHasTheDesignKeysAndNullForUndefined) {
 }
 
 TEST(GraphMetrics, BadSkeletonThrows) {
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 2}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{-1, 1}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{1, 1}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 1}, {1, 0}})), InputError);
-    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {std::nan(""), 0, 0}}, {{0, 1}})), InputError);
-    EXPECT_THROW(findBranches(makeSkeleton({{0, 0, 0}}, {{0, 1}})), InputError);
-    EXPECT_THROW(reduceSkeleton(makeSkeleton({{0, 0, 0}}, {{0, 0}})), InputError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 2}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{-1, 1}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{1, 1}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {1, 0, 0}}, {{0, 1}, {1, 0}})), InternalError);
+    EXPECT_THROW(computeGraphMetrics(makeSkeleton({{0, 0, 0}, {std::nan(""), 0, 0}}, {{0, 1}})), InternalError);
+    EXPECT_THROW(findBranches(makeSkeleton({{0, 0, 0}}, {{0, 1}})), InternalError);
+    EXPECT_THROW(reduceSkeleton(makeSkeleton({{0, 0, 0}}, {{0, 0}})), InternalError);
 }
 
 TEST(GraphMetrics, RandomGraphsGiveMetricsInTheirRanges) {

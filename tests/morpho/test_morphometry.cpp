@@ -172,17 +172,17 @@ TEST(Morphometry, JsonHasTheDesignKeys) {
 
 TEST(Morphometry, BadInputThrows) {
     Grid3<std::uint8_t> mask(Dims{2, 2, 2}, 1);
-    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, 0.0), InputError);
-    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, -1.0), InputError);
-    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, std::nan("")), InputError);
-    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, INFINITY), InputError);
+    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, 0.0), InternalError);
+    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, -1.0), InternalError);
+    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, std::nan("")), InternalError);
+    EXPECT_THROW(computeMorphometry(mask, Skeleton{}, INFINITY), InternalError);
     Grid3<std::uint8_t> broken = mask;
     broken.data.pop_back();
-    EXPECT_THROW(computeMorphometry(broken, Skeleton{}, 1.0), InputError);
+    EXPECT_THROW(computeMorphometry(broken, Skeleton{}, 1.0), InternalError);
     Skeleton bad;
     bad.nodes.resize(1);
     bad.edges.push_back({0, 3});
-    EXPECT_THROW(computeMorphometry(mask, bad, 1.0), InputError);
+    EXPECT_THROW(computeMorphometry(mask, bad, 1.0), InternalError);
 }
 
 Morphometry indices(double densityOpt, double densityRect, double coverageOpt, double coverageRect, double porosityOpt,

@@ -1,4 +1,4 @@
-// The cave skeleton (issue 6, DESIGN §5): thinning keeps topology, the graph has the right shape,
+// The cave skeleton (issue 6): thinning keeps topology, the graph has the right shape,
 // lengths and radii, and the files read back.
 #include <gtest/gtest.h>
 
@@ -831,31 +831,31 @@ TEST(Skeleton, SmoothingRemovesTheStaircaseOrientation) {
 
 TEST(Skeleton, RejectsBadInput) {
     const Mask m({4, 4, 4}, 1);
-    EXPECT_THROW(skeletonize(m, 0.0), InputError);
-    EXPECT_THROW(skeletonize(m, -1.0), InputError);
-    EXPECT_THROW(skeletonize(m, std::nan("")), InputError);
-    EXPECT_THROW(skeletonize(m, std::numeric_limits<double>::infinity()), InputError);
+    EXPECT_THROW(skeletonize(m, 0.0), InternalError);
+    EXPECT_THROW(skeletonize(m, -1.0), InternalError);
+    EXPECT_THROW(skeletonize(m, std::nan("")), InternalError);
+    EXPECT_THROW(skeletonize(m, std::numeric_limits<double>::infinity()), InternalError);
     Mask bad({4, 4, 4}, 1);
     bad.data.pop_back();
-    EXPECT_THROW(skeletonize(bad, 1.0), InputError);
-    EXPECT_THROW(thinToCurveSkeleton(bad), InputError);
+    EXPECT_THROW(skeletonize(bad, 1.0), InternalError);
+    EXPECT_THROW(thinToCurveSkeleton(bad), InternalError);
     Mask negative;
     negative.dims = {-1, 2, 2};
-    EXPECT_THROW(skeletonize(negative, 1.0), InputError);
+    EXPECT_THROW(skeletonize(negative, 1.0), InternalError);
     SkeletonOptions o;
     o.pruneFactor = -1;
-    EXPECT_THROW(skeletonize(m, 1.0, o), InputError);
+    EXPECT_THROW(skeletonize(m, 1.0, o), InternalError);
     o = {};
     o.minSpurLength = std::nan("");
-    EXPECT_THROW(skeletonize(m, 1.0, o), InputError);
+    EXPECT_THROW(skeletonize(m, 1.0, o), InternalError);
     o = {};
     o.smoothingIterations = -1;
-    EXPECT_THROW(skeletonize(m, 1.0, o), InputError);
+    EXPECT_THROW(skeletonize(m, 1.0, o), InternalError);
     o = {};
     o.smoothingWeight = 0;
-    EXPECT_THROW(skeletonize(m, 1.0, o), InputError);
+    EXPECT_THROW(skeletonize(m, 1.0, o), InternalError);
     o.smoothingWeight = 1.5;
-    EXPECT_THROW(skeletonize(m, 1.0, o), InputError);
+    EXPECT_THROW(skeletonize(m, 1.0, o), InternalError);
 }
 
 // ---- files ----------------------------------------------------------------------------------------
@@ -970,16 +970,16 @@ TEST(SkeletonFiles, Errors) {
     s.edges.push_back({0, 1});
     const Dims grid{2, 1, 1};
     EXPECT_THROW(writeSkeletonFiles(s, (dir.path / "missing").string(), 1.0, grid), RuntimeError);
-    EXPECT_THROW(writeSkeletonFiles(s, dir.path.string(), 0.0, grid), InputError);
-    EXPECT_THROW(writeSkeletonFiles(s, dir.path.string(), 1.0, Dims{1, 1, 1}), InputError);  // voxel 1 outside
+    EXPECT_THROW(writeSkeletonFiles(s, dir.path.string(), 0.0, grid), InternalError);
+    EXPECT_THROW(writeSkeletonFiles(s, dir.path.string(), 1.0, Dims{1, 1, 1}), InternalError);  // voxel 1 outside
     Skeleton badEdge = s;
     badEdge.edges[0] = {1, 0};
-    EXPECT_THROW(writeSkeletonFiles(badEdge, dir.path.string(), 1.0, grid), InputError);
+    EXPECT_THROW(writeSkeletonFiles(badEdge, dir.path.string(), 1.0, grid), InternalError);
     badEdge.edges[0] = {0, 2};
-    EXPECT_THROW(writeSkeletonFiles(badEdge, dir.path.string(), 1.0, grid), InputError);
+    EXPECT_THROW(writeSkeletonFiles(badEdge, dir.path.string(), 1.0, grid), InternalError);
     Skeleton nan = s;
     nan.nodes[0].position[1] = std::nan("");
-    EXPECT_THROW(writeSkeletonFiles(nan, dir.path.string(), 1.0, grid), InputError);
+    EXPECT_THROW(writeSkeletonFiles(nan, dir.path.string(), 1.0, grid), InternalError);
     EXPECT_TRUE(fs::is_empty(dir.path));  // nothing written on error
 
     EXPECT_THROW(readSkeletonJson((dir.path / "none.json").string()), RuntimeError);

@@ -28,7 +28,7 @@ TEST(Downsample, FactorOneCopiesAndBadFactorThrows) {
     Image src(3, 2, {10, 20, 30});
     const Image same = downsample(src, 1);
     EXPECT_EQ(same.pixels, src.pixels);
-    EXPECT_THROW(downsample(src, 0), InputError);
+    EXPECT_THROW(downsample(src, 0), InternalError);
     const Image big = downsample(src, 10);
     ASSERT_EQ(big.width, 1);
     EXPECT_EQ(big.get(0, 0).g, 20);

@@ -157,15 +157,15 @@ TEST(ComposeStrip, FramesSideBySideOrInRows) {
     EXPECT_EQ(grid.width, 2 * 100 + gap);
     EXPECT_EQ(grid.height, 2 * 50 + gap);
     EXPECT_EQ(grid.get(10, 50 + gap + 10), (Rgb{0, 0, 255}));
-    EXPECT_THROW(composeStrip({}, 1), InputError);
-    EXPECT_THROW(composeStrip(frames, 0), InputError);
-    EXPECT_THROW(composeStrip({Image()}, 1), InputError);
+    EXPECT_THROW(composeStrip({}, 1), InternalError);
+    EXPECT_THROW(composeStrip(frames, 0), InternalError);
+    EXPECT_THROW(composeStrip({Image()}, 1), InternalError);
 }
 
 TEST(Pictures, RejectBadWidths) {
     const Domain d = twoZones({8, 8, 4});
-    EXPECT_THROW(zonesPicture(d, 10), InputError);
-    EXPECT_THROW(stateFrame(d, caveMask(d, CaveExtent::kChannels), "x", 100000), InputError);
+    EXPECT_THROW(zonesPicture(d, 10), InternalError);
+    EXPECT_THROW(stateFrame(d, caveMask(d, CaveExtent::kChannels), "x", 100000), InternalError);
 }
 
 TEST(Png, RoundTripIsExactAndLeavesNoTemporaryFile) {

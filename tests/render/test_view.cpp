@@ -18,7 +18,7 @@ TEST(Camera, OrthographicRaysProjectBackToTheirPixel) {
     std::uniform_real_distribution<double> ux(f.vx, f.vx + f.vw), uy(f.vy, f.vy + f.vh);
     for (int n = 0; n < 100; ++n) {
         const double px = ux(rng), py = uy(rng);
-        Vec3 o, d;
+        Vec3d o, d;
         f.camera.ray(px, py, o, d);
         EXPECT_DOUBLE_EQ(d[0], f.camera.forward[0]);
         for (double t : {0.0, 3.0, 17.5}) {
@@ -34,7 +34,7 @@ TEST(Camera, PerspectiveRaysProjectBackToTheirPixelAndDepthGrows) {
     const Frame f = makeFrame(View::kPerspective, {60, 60, 20}, 1.0, 1024);
     for (double px : {f.vx + 3.5, f.vx + f.vw / 2.0, f.vx + f.vw - 2.5})
         for (double py : {f.vy + 1.5, f.vy + f.vh * 0.7}) {
-            Vec3 o, d;
+            Vec3d o, d;
             f.camera.ray(px, py, o, d);
             EXPECT_NEAR(std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), 1.0, 1e-12);
             double last = 0.0;
@@ -91,9 +91,9 @@ TEST(Frame, TallBlocksAreCappedAndCentred) {
 }
 
 TEST(Frame, RejectsBadInput) {
-    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, 1.0, 10), InputError);
-    EXPECT_THROW(makeFrame(View::kPlan, {10, 0, 10}, 1.0, 512), InputError);
-    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, -1.0, 512), InputError);
+    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, 1.0, 10), InternalError);
+    EXPECT_THROW(makeFrame(View::kPlan, {10, 0, 10}, 1.0, 512), InternalError);
+    EXPECT_THROW(makeFrame(View::kPlan, {10, 10, 10}, -1.0, 512), InternalError);
 }
 
 TEST(Cells, FillCellsPaintsEachCellWhereItProjects) {

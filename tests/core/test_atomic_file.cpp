@@ -1,0 +1,121 @@
+// writeFileAtomic: the file appears whole, replaces what was there, leaves no temporary behind,
+// and fails with RuntimeError (and no debris) where it cannot write.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace cavesim {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A fresh directory under the system temporary directory, removed at the end of the test.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() / ("cavesim_test_core_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::permissions(path, fs::perms::owner_all, fs::perm_options::add, ec);
+        fs::remove_all(path, ec);
+    }
+};
+
+std::string readAll(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+/// Names in `dir`, sorted.
+std::vector<std::string> entries(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+TEST(AtomicFile, WritesTheText) {
+    TempDir dir;
+    const fs::path p = dir.path / "a.txt";
+    const std::string text = std::string("line 1\nline 2\n") + std::string(1, '\0') + "binary\xff";
+    writeFileAtomic(p.string(), text);
+    EXPECT_EQ(readAll(p), text);
+    EXPECT_EQ(entries(dir.path), std::vector<std::string>{"a.txt"});  // no temporary left
+}
+
+TEST(AtomicFile, WritesAnEmptyFile) {
+    TempDir dir;
+    const fs::path p = dir.path / "empty";
+    writeFileAtomic(p.string(), "");
+    EXPECT_TRUE(fs::is_regular_file(p));
+    EXPECT_EQ(fs::file_size(p), 0u);
+}
+
+TEST(AtomicFile, ReplacesAnExistingFileWhole) {
+    TempDir dir;
+    const fs::path p = dir.path / "a.txt";
+    writeFileAtomic(p.string(), std::string(10000, 'x'));
+    writeFileAtomic(p.string(), "short");
+    EXPECT_EQ(readAll(p), "short");  // no tail of the longer old content
+    EXPECT_EQ(entries(dir.path), std::vector<std::string>{"a.txt"});
+}
+
+TEST(AtomicFile, ReplacesASymlinkInsteadOfFollowingIt) {
+    TempDir dir;
+    const fs::path target = dir.path / "target.txt";
+    const fs::path link = dir.path / "link.txt";
+    writeFileAtomic(target.string(), "original");
+    fs::create_symlink(target, link);
+    writeFileAtomic(link.string(), "new");
+    EXPECT_FALSE(fs::is_symlink(link));
+    EXPECT_EQ(readAll(link), "new");
+    EXPECT_EQ(readAll(target), "original");
+}
+
+TEST(AtomicFile, FailsIntoAMissingDirectory) {
+    TempDir dir;
+    EXPECT_THROW(writeFileAtomic((dir.path / "no" / "such" / "dir" / "a.txt").string(), "x"), RuntimeError);
+    EXPECT_TRUE(entries(dir.path).empty());
+}
+
+TEST(AtomicFile, FailsWhenTheParentIsAFile) {
+    TempDir dir;
+    writeFileAtomic((dir.path / "file").string(), "x");
+    EXPECT_THROW(writeFileAtomic((dir.path / "file" / "a.txt").string(), "y"), RuntimeError);
+    EXPECT_EQ(entries(dir.path), std::vector<std::string>{"file"});
+}
+
+TEST(AtomicFile, FailsOntoADirectoryAndRemovesItsTemporary) {
+    TempDir dir;
+    fs::create_directory(dir.path / "taken");
+    fs::create_directory(dir.path / "taken" / "inside");  // a non-empty directory: rename must fail
+    EXPECT_THROW(writeFileAtomic((dir.path / "taken").string(), "x"), RuntimeError);
+    EXPECT_EQ(entries(dir.path), std::vector<std::string>{"taken"});  // the temporary was removed
+    EXPECT_TRUE(fs::is_directory(dir.path / "taken" / "inside"));
+}
+
+TEST(AtomicFile, FailsIntoAReadOnlyDirectory) {
+    if (::geteuid() == 0) GTEST_SKIP() << "root ignores directory permissions";
+    TempDir dir;
+    fs::permissions(dir.path, fs::perms::owner_read | fs::perms::owner_exec, fs::perm_options::replace);
+    EXPECT_THROW(writeFileAtomic((dir.path / "a.txt").string(), "x"), RuntimeError);
+    fs::permissions(dir.path, fs::perms::owner_all, fs::perm_options::add);
+    EXPECT_TRUE(entries(dir.path).empty());
+}
+
+}  // namespace
+}  // namespace cavesim
