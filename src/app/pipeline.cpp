@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "app/report.h"
+#include "core/timer.h"
 #include "app/state.h"
 #include "mesh/cave_mesh.h"
 #include "mesh/cave_pictures.h"
@@ -20,8 +21,6 @@
 namespace cavesim::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void say(const LogFn& log, const std::string& message) {
     if (log) log(message);
@@ -45,7 +44,7 @@ Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& 
 }  // namespace
 
 PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {
-    const auto t0 = Clock::now();
+    const Stopwatch t0;
     RunRecord rec;
     rec.threads = options.threads;
     const ProgressFn& progress = options.progress;
@@ -55,9 +54,9 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     Domain dom = buildDomain(s, rng);
 
     if (s.stage1.enabled) {
-        const auto t1 = Clock::now();
+        const Stopwatch t1;
         rec.stage1 = stage1(dom, s, rng, progress);
-        rec.timing.stage1 = since(t1);
+        rec.timing.stage1 = t1.seconds();
         writeState(dir.file("stage1.vdb").string(), dom, s, StateMoment::kAfterStage1);
         if (s.output.images) render::writeZonesPicture(dom, dir.file("images/zones.png").string(), width);
         say(options.log, "stage 1: " + std::to_string(rec.stage1->zones) + " zone(s), " +
@@ -65,7 +64,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
                              std::to_string(rec.timing.stage1).substr(0, 5) + " s");
     }
     if (s.stage2.enabled) {
-        const auto t2 = Clock::now();
+        const Stopwatch t2;
         prepareStage2(dom, s.stage2);
         // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
         // reduced as it is taken, so the frames kept for the strip stay small at any image width.
@@ -86,7 +85,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
             };
         }
         rec.stage2 = runStage2(dom, s.stage2, progress, snap);
-        rec.timing.stage2 = since(t2);
+        rec.timing.stage2 = t2.seconds();
         if (frames.size() > 1)
             render::writePng(dir.file("images/sequence.png").string(),
                              render::composeStrip(frames, (int(frames.size()) + kPerRow - 1) / kPerRow));
@@ -106,7 +105,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     // The cave, once: every output below describes these voxels.
     const Cave cave = makeCave(dom, s.output.cave);
 
-    const auto tm = Clock::now();
+    const Stopwatch tm;
     mesh::MeshOptions mo;
     mo.style = s.output.meshStyle;
     const std::string imagesDir = dir.file("images").string();
@@ -118,17 +117,17 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         mesh::writeCavePictures(cave, imagesDir, width);
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
-    rec.timing.mesh = since(tm);
+    rec.timing.mesh = tm.seconds();
 
-    const auto tr = Clock::now();
+    const Stopwatch tr;
     const std::vector<std::optional<int>> connected =
         rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
     const Grid3<float>* pressure = s.stage2.enabled ? &dom.pressure : nullptr;
     const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, pressure, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
     rec.analysis = analysisJson(analysis);
-    rec.timing.report = since(tr);
-    rec.timing.total = since(t0);
+    rec.timing.report = tr.seconds();
+    rec.timing.total = t0.seconds();
     writeReport(s, dom, rec, dir.file("").string());
     // The effective scenario also records the state.vdb it produced (a comment, ignored by the
     // parser), so `cavesim report` can check the file even when report.json is gone.
@@ -140,7 +139,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         const Cave other = makeCave(dom, *options.alsoMeasure);
         out.alsoMeasured = analysisJson(morpho::analyseCave(other, pressure, connected));
     }
-    out.totalSeconds = since(t0);
+    out.totalSeconds = t0.seconds();
     if (rec.stage2) out.breakthroughIteration = rec.stage2->breakthroughIteration;
     out.report = rec.json;
     return out;

@@ -16,6 +16,7 @@
 #include "app/report.h"
 #include "app/state.h"
 #include "core/error.h"
+#include "core/timer.h"
 #include "morpho/analysis.h"
 #include "sim/scenario_io.h"
 
@@ -24,7 +25,6 @@ namespace fs = std::filesystem;
 namespace cavesim::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 nlohmann::json readJsonIfPresent(const fs::path& path) {
     std::error_code ec;
@@ -55,7 +55,7 @@ std::string rebuildReport(const std::string& dirArg) {
     for (const char* f : {"scenario.toml", "state.vdb"})
         if (!fs::exists(dir / f))
             throw InputError((dir / f).string() + ": missing; `cavesim report` needs the files a run writes");
-    const auto t0 = Clock::now();
+    const Stopwatch t0;
     const Scenario s = parseScenarioFile((dir / "scenario.toml").string());
     nlohmann::json report = readJsonIfPresent(dir / "report.json");
     // Everything this command rewrites must be a file (or absent), so it does not stop half-way.
@@ -85,7 +85,7 @@ std::string rebuildReport(const std::string& dirArg) {
     report["seed"] = s.seed;
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"}) report[k] = a[k];
     if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
-    report["timing_s"]["report"] = std::chrono::duration<double>(Clock::now() - t0).count();
+    report["timing_s"]["report"] = t0.seconds();
     writeFileAtomic((dir / "report.json").string(), report.dump(2) + "\n");
     writeFileAtomic((dir / "report.md").string(), buildReportMarkdown(s, report, dir.string()));
     return dir.string() + ": rebuilt report.json, report.md and the skeleton files";

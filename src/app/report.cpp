@@ -12,6 +12,7 @@
 #include "sim/scenario_io.h"
 #include "mesh/cave_mesh.h"
 #include "morpho/analysis.h"
+#include "morpho/reference_ranges.h"
 
 namespace fs = std::filesystem;
 
@@ -114,51 +115,28 @@ const nlohmann::json& at(const nlohmann::json& j, const std::string& a, const st
     return x.is_object() && x.contains(b) ? x.at(b) : null;
 }
 
-struct Range {
-    double lo, hi;
-};
-std::string rangeText(Range r) {
+std::string rangeText(const morpho::ReferenceRange* r) {
+    if (!r) return "–";
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%g – %g", r.lo, r.hi);
+    std::snprintf(buf, sizeof buf, "%g – %g", r->low, r->high);
     return buf;
 }
-std::string inRange(const nlohmann::json& v, Range r) {
-    if (!v.is_number()) return "";
+std::string inRange(const nlohmann::json& v, const morpho::ReferenceRange* r) {
+    if (!v.is_number() || !r) return "";
     const double x = v.get<double>();
-    return x >= r.lo && x <= r.hi ? " ✓" : " ✗";
+    return x >= r->low && x <= r->high ? " ✓" : " ✗";
 }
 
-/// Paper Table 2 (Klimchouk 2006, optimised fields) and Table 3 (Frumkin & Fischhendler 2005,
-/// rectangular fields).
+/// The rows of the indices table: the paper's Tables 2 (optimised field) and 3 (rectangular field).
 struct IndexRow {
     const char* label;
-    const char* key;   ///< without the _opt / _rect suffix
-    Range unconfined, confined;      // Table 2
-    Range chamberFF, confinedFF;     // Table 3 (porosity: not given, {0,0})
+    const char* key;  ///< without the _opt / _rect suffix
 };
 const IndexRow kIndexRows[] = {
-    {"network density (m/m²)", "network_density", {0.012, 0.023}, {0.049, 0.406}, {0.01, 0.25}, {0.07, 0.35}},
-    {"areal coverage (%)", "areal_coverage_pct", {3.77, 8.55}, {13.56, 58.51}, {20, 80}, {10, 40}},
-    {"porosity (%)", "porosity_pct", {0.15, 0.77}, {1.1, 12}, {0, 0}, {0, 0}},
-    {"W (m)", "mean_width_m", {2.52, 4.56}, {0.65, 4.53}, {2, 100}, {0.9, 8.0}},
-};
-
-/// Real-cave ranges of Collon et al. 2017 over 34 surveyed networks.
-struct MetricRow {
-    const char* key;
-    const char* meaning;
-    Range real;
-};
-const MetricRow kMetricRows[] = {
-    {"h_or", "orientation entropy", {0.75, 1.00}},
-    {"len_mean_m", "mean branch length (m)", {8.46, 331.74}},
-    {"cv_len", "branch length variation", {0.90, 2.56}},
-    {"h_len", "length entropy", {0.07, 0.67}},
-    {"k_mean", "mean degree", {1.75, 2.57}},
-    {"r_k", "degree assortativity", {-0.56, -0.15}},
-    {"spl", "mean shortest path (hops)", {2.32, 55.72}},
-    {"cpd", "central point dominance", {0.02, 0.57}},
-    {"tortuosity", "tortuosity", {1.12, 1.54}},
+    {"network density (m/m²)", "network_density"},
+    {"areal coverage (%)", "areal_coverage_pct"},
+    {"porosity (%)", "porosity_pct"},
+    {"W (m)", "mean_width_m"},
 };
 
 /// Paper Table 4 (its own caves, optimised field; rectangular in parentheses) and Table 5 timings.
@@ -330,12 +308,18 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
         int row = 0;
         for (const IndexRow& x : kIndexRows) {
             const bool width = std::string(x.key) == "mean_width_m";
-            const nlohmann::json& opt = width ? at(mo, x.key) : at(mo, std::string(x.key) + "_opt");
-            const nlohmann::json& rect = width ? at(mo, x.key) : at(mo, std::string(x.key) + "_rect");
-            md << "| " << x.label << " | " << fmt(opt) << inRange(opt, x.confined) << " | " << fmt(rect)
-               << inRange(rect, x.confinedFF) << " | " << rangeText(x.unconfined) << " | " << rangeText(x.confined)
-               << " | " << (x.chamberFF.hi > 0 ? rangeText(x.chamberFF) : "–") << " | "
-               << (x.confinedFF.hi > 0 ? rangeText(x.confinedFF) : "–") << " |";
+            const std::string optKey = width ? x.key : std::string(x.key) + "_opt";
+            const std::string rectKey = width ? x.key : std::string(x.key) + "_rect";
+            const nlohmann::json& opt = at(mo, optKey);
+            const nlohmann::json& rect = at(mo, rectKey);
+            using morpho::findReferenceRange;
+            const auto* confined2 = findReferenceRange(optKey.c_str(), "confined", 2);
+            const auto* confined3 = findReferenceRange(rectKey.c_str(), "confined", 3);
+            md << "| " << x.label << " | " << fmt(opt) << inRange(opt, confined2) << " | " << fmt(rect)
+               << inRange(rect, confined3) << " | " << rangeText(findReferenceRange(optKey.c_str(), "unconfined", 2))
+               << " | " << rangeText(confined2) << " | "
+               << rangeText(findReferenceRange(rectKey.c_str(), "chamber", 3)) << " | " << rangeText(confined3)
+               << " |";
             if (paper) md << " " << paperIndexText(*paper, row) << " |";
             md << "\n";
             ++row;
@@ -348,9 +332,12 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     if (!gm.is_null()) {
         md << "\n## Network metrics (Collon et al. 2017)\n\n| metric | meaning | ours | real caves (34 networks) |\n"
               "|---|---|---|---|\n";
-        for (const MetricRow& m : kMetricRows)
-            md << "| `" << m.key << "` | " << m.meaning << " | " << fmt(at(gm, m.key)) << inRange(at(gm, m.key), m.real)
-               << " | " << rangeText(m.real) << " |\n";
+        // In the order the report has always listed them.
+        for (const char* key : {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"}) {
+            const morpho::ReferenceRange* m = morpho::findReferenceRange(key, "real caves", 0);
+            md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key)) << inRange(at(gm, key), m)
+               << " | " << rangeText(m) << " |\n";
+        }
     }
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
           "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`.\n";

@@ -18,6 +18,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
+#include "core/timer.h"
 #include "core/memory.h"
 #include "fastmarch/fast_marching.h"
 #include "flownet/flow_network.h"
@@ -28,12 +29,8 @@
 namespace cavesim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 /// Peak heap bytes per zone voxel of network and solver (measured: about 430 on 6-neighbour zones).
 constexpr double kBytesPerVoxel = 450;
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 /// What one zone needs and produces in the parallel part.
 struct ZoneWork {
@@ -95,7 +92,7 @@ Grid3<float> stage1DisplayPorosity(const Domain& domain, double protochannelPoro
 }
 
 Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const ProgressFn& progress) {
-    const auto t0 = Clock::now();
+    const Stopwatch t0;
     const Dims& d = domain.dims;
     const std::size_t nSources = domain.sourceVoxels.size();
     Stage1Result result;
@@ -106,7 +103,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     // 1. Zones.
     reportProgress(progress, "stage 1: pressure zones", 0, 1);
     domain.zone = pressureZones(domain, g.permeability);
-    result.zoneSeconds = since(t0);
+    result.zoneSeconds = t0.seconds();
     reportProgress(progress, "stage 1: pressure zones", 1, 1);
 
     std::vector<ZoneWork> work(nSources);
@@ -190,7 +187,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     reportProgress(progress, "stage 1: flow networks", 0, long(nSources));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nSources, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t z = r.begin(); z != r.end(); ++z) {
-            const auto tz = Clock::now();
+            const Stopwatch tz;
             ZoneWork& w = work[z];
             if (!w.voxels.empty() && !w.sources.empty()) {
                 const flownet::FlowNetwork net =
@@ -210,7 +207,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
                 for (flownet::NodeId n : tree.nodes) w.traced.push_back(net.voxelOfNode[n]);
                 w.stats.protochannelVoxels = long(w.traced.size());
             }
-            w.stats.seconds = since(tz);
+            w.stats.seconds = tz.seconds();
             std::lock_guard<std::mutex> lock(progressMutex);
             reportProgress(progress, "stage 1: flow networks", ++done, long(nSources));
         }
@@ -222,7 +219,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
         result.protochannelVoxels += long(work[z].traced.size());
         result.perZone[z] = work[z].stats;
     }
-    result.seconds = since(t0);
+    result.seconds = t0.seconds();
     return result;
 }
 

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/timer.h"
 #include "fastmarch/fast_marching.h"
 #include "sim/stage2_steps.h"
 
@@ -27,8 +28,6 @@ constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
 /// conserved exactly (the film is stored, and counted).
 constexpr double kMinFlowingWater = 1e-9;
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 std::array<Slot, 26> makeSlots() {
     std::array<Slot, 26> slot{};
@@ -458,7 +457,7 @@ Grid3<double> solvePressureFull(const Domain& dom, const Stage2Options& g) {
 }
 
 Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& progress, const SnapshotFn& snapshot) {
-    const auto t0 = Clock::now();
+    const Stopwatch t0;
     const Dims d = dom.dims;
     const std::size_t n = d.count();
     Stage2Result res;
@@ -469,9 +468,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     Grid3<float> rate = rateField(dom, g);
     fastmarch::EikonalField pressure;
     {
-        const auto tp = Clock::now();
+        const Stopwatch tp;
         pressure.solve(d, rate, sinkSeeds(dom), res.pressureCap, fastmarch::Stencil::kAvalanche26);
-        res.pressureSeconds += since(tp);
+        res.pressureSeconds += tp.seconds();
     }
 
     Stage2State st(d);
@@ -484,24 +483,24 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         const double storedBefore = stored;
         const Grid3<double>& P = pressure.value();
 
-        const auto tt = Clock::now();
+        const Stopwatch tt;
         rec.injected = refillSources(dom, refill, st);
         computeOffers(dom, P, g.weight, st);
         computeAcceptance(dom, st);
         std::tie(rec.flow, rec.drained) = moveWater(dom, st);
-        res.transportSeconds += since(tt);
+        res.transportSeconds += tt.seconds();
 
-        const auto te = Clock::now();
+        const Stopwatch te;
         blendFlow(dom, P, g.blending, st);
         changed.clear();
         rec.eroded = erode(dom, g, st, rate, changed);
-        res.erosionSeconds += since(te);
+        res.erosionSeconds += te.seconds();
 
         // Pressure: propagate the decreases caused by new channel voxels.
         {
-            const auto tp = Clock::now();
+            const Stopwatch tp;
             rec.pressureUpdates = long(updatePressure(pressure, rate, changed));
-            res.pressureSeconds += since(tp);
+            res.pressureSeconds += tp.seconds();
         }
 
         // Bookkeeping.
@@ -540,7 +539,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     if (!(res.waterBalanceRelError < 1e-6)) {
         throw RuntimeError("stage 2: water not conserved (relative error " + std::to_string(res.waterBalanceRelError) + ")");
     }
-    res.seconds = since(t0);
+    res.seconds = t0.seconds();
     return res;
 }
 
