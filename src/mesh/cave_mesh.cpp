@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <utility>
 
+#include "core/check.h"
 #include "core/timer.h"
 #include "mesh/cave_level_set.h"
 #include "mesh/mesh_cleanup.h"
@@ -106,20 +107,59 @@ MeshStats writeMeshOutputs(const TriangleMesh& mesh, const Grid3<std::uint8_t>& 
     if (mesh.triangles.empty()) return {};
     const std::filesystem::path base(dir);
     writeMeshFiles(mesh, {(base / "cave.obj").string(), (base / "cave.ply").string()});
-    if (options.style == MeshStyle::kVoxel) writeMeshFile(buildVoxelMesh(mask, voxelSize), (base / "cave_voxels.obj").string());
+    if (options.style == MeshStyle::kVoxel)
+        writeMeshFile(buildVoxelMesh(mask, voxelSize), (base / "cave_voxels.obj").string());
     return measureMesh(mesh);
 }
 
 }  // namespace detail
 
-MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options) {
+MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options, SurfaceMesh* built) {
     const Stopwatch watch;
     detail::validateMeshOptions(options, cave.voxelSize);
     const Grid3<std::uint8_t>& mask = cave.mask;
-    MeshStats stats =
-        detail::writeMeshOutputs(buildCaveMesh(mask, cave.voxelSize, options), mask, cave.voxelSize, dir, options);
+    const TriangleMesh mesh = buildCaveMesh(mask, cave.voxelSize, options);
+    MeshStats stats = detail::writeMeshOutputs(mesh, mask, cave.voxelSize, dir, options);
+    if (built) *built = toSurfaceMesh(mesh);
     if (stats.faces > 0) stats.seconds = watch.seconds();
     return stats;
+}
+
+SurfaceMesh toSurfaceMesh(const TriangleMesh& mesh) {
+    SurfaceMesh out;
+    const std::size_t nv = mesh.vertices.size();
+    std::vector<std::array<double, 3>> sum(nv, {0.0, 0.0, 0.0});
+    for (const auto& t : mesh.triangles) {
+        for (int c = 0; c < 3; ++c)
+            CAVESIM_CHECK(t[c] >= 0 && std::size_t(t[c]) < nv, "triangle mesh refers to a vertex that does not exist");
+        const auto& a = mesh.vertices[std::size_t(t[0])];
+        const auto& b = mesh.vertices[std::size_t(t[1])];
+        const auto& c = mesh.vertices[std::size_t(t[2])];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        for (int corner = 0; corner < 3; ++corner)
+            for (int d = 0; d < 3; ++d) sum[std::size_t(t[corner])][d] += n[d];
+    }
+    out.vertices.reserve(nv);
+    out.normals.reserve(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const auto& p = mesh.vertices[v];
+        out.vertices.push_back({float(p[0]), float(p[1]), float(p[2])});
+        const auto& n = sum[v];
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (len > 0.0)
+            out.normals.push_back({float(n[0] / len), float(n[1] / len), float(n[2] / len)});
+        else
+            out.normals.push_back({0.f, 0.f, 1.f});
+    }
+    out.triangles = mesh.triangles;
+    return out;
+}
+
+SurfaceMesh buildCaveSurfaceMesh(const Cave& cave, const MeshOptions& options) {
+    detail::validateMeshOptions(options, cave.voxelSize);
+    return toSurfaceMesh(buildCaveMesh(cave.mask, cave.voxelSize, options));
 }
 
 }  // namespace cavesim::mesh

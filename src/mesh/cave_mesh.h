@@ -32,6 +32,7 @@
 
 #include "core/grid.h"
 #include "core/vec3.h"
+#include "core/surface_mesh.h"
 #include "sim/cave.h"
 #include "sim/options.h"
 
@@ -108,7 +109,20 @@ MeshStats measureMesh(const TriangleMesh& mesh);
 /// `dir/cave_voxels.obj`. Files are written under temporary names and renamed, so they appear
 /// complete or not at all. An empty cave writes nothing and returns zero stats.
 /// @throw InternalError on bad options; RuntimeError when a file cannot be written
-MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options = {});
+/// @param built  when not null, receives the mesh written (as `toSurfaceMesh`), for the export
+///               writers of src/formats; left empty for an empty cave
+MeshStats writeCaveMesh(const Cave& cave, const std::string& dir, const MeshOptions& options = {},
+                        SurfaceMesh* built = nullptr);
+
+/// `mesh` in single precision with unit, area-weighted vertex normals (the normalised sum of the
+/// unnormalised normals of the triangles at a vertex; (0, 0, 1) where that sum is zero): the
+/// normals cave.obj and cave.ply carry. World space and metres are kept; triangles unchanged.
+SurfaceMesh toSurfaceMesh(const TriangleMesh& mesh);
+
+/// The smooth cave mesh of `cave` (what `writeCaveMesh` writes to cave.obj) as a `SurfaceMesh`,
+/// without writing anything. Empty when the cave is.
+/// @throw InternalError on bad options
+SurfaceMesh buildCaveSurfaceMesh(const Cave& cave, const MeshOptions& options = {});
 
 /// Writes `mesh` as OBJ or PLY (by the extension of `path`: ".obj" or ".ply") through OpenMesh,
 /// with area-weighted vertex normals, via a temporary file and a rename.

@@ -381,13 +381,14 @@ void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width
     writeViews(renderCaveViews(cave, width), imagesDir);
 }
 
-MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir,
-                                   int width, const MeshOptions& options) {
+MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir, int width,
+                                   const MeshOptions& options, SurfaceMesh* built) {
     const Stopwatch watch;
     checkWidth(width);
     detail::validateMeshOptions(options, cave.voxelSize);
     const detail::CaveSurface surface = detail::buildCaveSurface(cave.mask, cave.voxelSize, options, true);
     MeshStats stats = detail::writeMeshOutputs(surface.mesh, cave.mask, cave.voxelSize, dir, options);
+    if (built) *built = toSurfaceMesh(surface.mesh);
     writeViews(renderViews(cave, width, surface.levelSet), imagesDir);
     stats.seconds = watch.seconds();
     return stats;

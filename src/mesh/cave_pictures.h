@@ -38,7 +38,8 @@ void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width
 /// writeCaveMesh(cave, dir, options) and writeCavePictures(cave, imagesDir, width) sharing
 /// one level set: the same files, about a fifth less time. `seconds` covers both.
 /// @throw InternalError on a bad width or options; RuntimeError when a file cannot be written
-MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir,
-                                   int width, const MeshOptions& options = {});
+/// @param built  when not null, receives the mesh written (as `toSurfaceMesh`, cave_mesh.h)
+MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir, int width,
+                                   const MeshOptions& options = {}, SurfaceMesh* built = nullptr);
 
 }  // namespace cavesim::mesh

@@ -6,9 +6,15 @@
 #include <iterator>
 
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetRebuild.h>
+
+#include <unistd.h>
+#include <filesystem>
 
 #include "core/error.h"
 #include "core/fnv.h"
+#include "mesh/cave_level_set.h"
+#include "sim/cave.h"
 
 namespace cavesim::mesh {
 namespace {
@@ -102,9 +108,12 @@ void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, doub
     openvdb::GridPtrVec out;
     for (const NamedGrid& ng : grids) {
         openvdb::GridBase::Ptr g;
-        if (ng.floats) g = denseToGrid<openvdb::FloatGrid>(*ng.floats, voxelSize);
-        else if (ng.ints) g = denseToGrid<openvdb::Int32Grid>(*ng.ints, voxelSize);
-        else continue;
+        if (ng.floats)
+            g = denseToGrid<openvdb::FloatGrid>(*ng.floats, voxelSize);
+        else if (ng.ints)
+            g = denseToGrid<openvdb::Int32Grid>(*ng.ints, voxelSize);
+        else
+            continue;
         g->setName(ng.name);
         g->setGridClass(openvdb::GRID_UNKNOWN);
         if (!ng.description.empty()) g->insertMeta("description", openvdb::StringMetadata(ng.description));
@@ -125,6 +134,71 @@ Grid3<float> readVdbFloat(const std::string& path, const std::string& name, cons
 }
 Grid3<std::int32_t> readVdbInt(const std::string& path, const std::string& name, const Dims& dims) {
     return gridToDense<openvdb::Int32Grid, std::int32_t>(path, name, dims);
+}
+
+void writeExportVdb(const std::string& path, const Domain& domain, const Cave& cave, const MeshOptions& options) {
+    detail::validateMeshOptions(options, domain.voxelSize);
+    if (!(cave.mask.dims == domain.dims) || cave.voxelSize != domain.voxelSize)
+        throw InputError("cannot write " + path + ": the cave is not on the domain's grid");
+    openvdb::initialize();
+    const double h = domain.voxelSize;
+    openvdb::GridPtrVec out;
+    auto add = [&out](openvdb::GridBase::Ptr g, const std::string& name, const std::string& description,
+                      const std::string& unit) {
+        g->setName(name);
+        g->insertMeta("description", openvdb::StringMetadata(description));
+        g->insertMeta("unit", openvdb::StringMetadata(unit));
+        out.push_back(g);
+    };
+    auto addDense = [&](const Grid3<float>& dense, const std::string& name, const std::string& description,
+                        const std::string& unit) {
+        if (dense.size() != domain.dims.count()) return;  // a grid the run never filled
+        auto g = denseToGrid<openvdb::FloatGrid>(dense, h);
+        g->setGridClass(openvdb::GRID_UNKNOWN);
+        add(g, name, description, unit);
+    };
+    addDense(domain.porosity, "porosity", "porosity R in [0,1] (water capacity)", "1");
+    addDense(domain.porosity0, "porosity0", "initial porosity", "1");
+    Grid3<float> flags(domain.dims, 0.f), zone(domain.dims, 0.f);
+    for (std::size_t v = 0; v < flags.size() && v < domain.flags.size(); ++v) flags[v] = float(domain.flags[v]);
+    for (std::size_t v = 0; v < zone.size() && v < domain.zone.size(); ++v) zone[v] = float(domain.zone[v]);
+    addDense(flags, "flags",
+             "float copy of the flag bits: 1 source, 2 sink, 4 protochannel, 8 channel, 16 obstacle, 32 fracture, "
+             "64 rock.channel",
+             "bits");
+    addDense(zone, "zone", "float copy of the stage-1 pressure zone: source index, -1 none", "index");
+    addDense(domain.pressure, "pressure", "stage-2 pressure", "1 (relative to the source pressure)");
+    addDense(domain.flow, "flow", "stage-2 flow f of the last iteration (Eq. 2)", "voxel volumes per iteration");
+    addDense(domain.water, "water", "stage-2 water contents", "voxel volumes");
+
+    const detail::CaveSurface surface = detail::buildCaveSurface(cave.mask, h, options, false);
+    if (surface.levelSet.grid) {
+        openvdb::FloatGrid::Ptr cave = openvdb::tools::levelSetRebuild(
+            *surface.levelSet.grid, float(surface.levelSet.isoValue), float(options.halfWidth));
+        cave->setGridClass(openvdb::GRID_LEVEL_SET);
+        add(cave, "cave", "cave surface (as cave.obj): signed distance, negative inside the cave", "m");
+    }
+
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    const fs::path temp =
+        target.parent_path() / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()));
+    std::error_code ec;
+    try {
+        openvdb::io::File file(temp.string());
+        file.write(out);
+        file.close();
+    } catch (const std::exception& e) {
+        fs::remove(temp, ec);
+        throw RuntimeError("cannot write " + path + ": " + e.what());
+    }
+    makeUuidDeterministic(temp.string());
+    fs::rename(temp, target, ec);
+    if (ec) {
+        const std::string why = ec.message();
+        fs::remove(temp, ec);
+        throw RuntimeError("cannot write " + path + ": " + why);
+    }
 }
 
 }  // namespace cavesim::mesh

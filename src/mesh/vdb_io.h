@@ -9,6 +9,9 @@
 #include <vector>
 
 #include "core/grid.h"
+#include "mesh/cave_mesh.h"
+#include "sim/cave.h"
+#include "sim/domain.h"
 
 namespace cavesim::mesh {
 
@@ -30,5 +33,26 @@ void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, doub
 /// @throw RuntimeError when the file or grid is missing
 Grid3<float> readVdbFloat(const std::string& path, const std::string& name, const Dims& dims);
 Grid3<std::int32_t> readVdbInt(const std::string& path, const std::string& name, const Dims& dims);
+
+/// Writes the export `.vdb` (cave.vdb) that every OpenVDB reader takes, pyopenvdb included
+/// (whose `readAll` refuses the Int32 grids of state.vdb), and that gives Houdini and Blender a
+/// cave surface:
+///  - float grids `porosity`, `porosity0`, `pressure`, `flow`, `water` as in state.vdb (zero =
+///    background, inactive), and `flags` and `zone` as float copies of the integer grids (values
+///    exact: flags 0–127, zone −1 … number of sources − 1); class unknown, world transform as
+///    state.vdb (uniform scale `voxelSize`, voxel (i, j, k) centred at ((i, j, k) + 0.5)·voxelSize);
+///  - `cave`: the cave surface (the surface of cave.obj) as a narrow-band signed distance in
+///    metres, negative inside the cave, class GRID_LEVEL_SET, background = half width × its voxel
+///    size, voxels voxelSize / `options.subdivision` on a side, `options.halfWidth` voxels on
+///    each side of the surface. Absent when the cave is empty.
+/// Every grid carries string metadata "description" and "unit". Written under a temporary name
+/// and renamed; the file's UUID is derived from its contents (same domain, same bytes).
+/// state.vdb is not touched.
+/// @param path     file to write (any name; `cave.vdb` by convention)
+/// @param domain   the simulation state (index space grids, metres)
+/// @param cave     the run's cave (`makeCave`), on the domain's grid: the `cave` grid is its surface
+/// @param options  the mesh options of the run (the level set is the one the mesh is made from)
+/// @throw InputError on bad options; RuntimeError when the file cannot be written
+void writeExportVdb(const std::string& path, const Domain& domain, const Cave& cave, const MeshOptions& options = {});
 
 }  // namespace cavesim::mesh

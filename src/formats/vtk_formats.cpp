@@ -1,0 +1,183 @@
+#include "formats/vtk_formats.h"
+
+#include <cstdint>
+#include <sstream>
+#include <utility>
+
+#include "core/error.h"
+#include "formats/detail.h"
+#include "formats/passages.h"
+#include "sim/cave.h"
+
+namespace cavesim::formats {
+namespace {
+
+// One ASCII String array of VTK XML: character codes, each string ended by 0.
+std::string stringArray(const std::string& name, const std::vector<std::string>& values) {
+    std::string s = "      <Array type=\"String\" Name=\"" + name + "\" NumberOfTuples=\"" +
+                    std::to_string(values.size()) + "\" format=\"ascii\">\n        ";
+    for (const std::string& v : values) {
+        for (unsigned char c : v) s += std::to_string(int(c)) + " ";
+        s += "0 ";
+    }
+    s += "\n      </Array>\n";
+    return s;
+}
+
+std::string fieldData(const std::vector<std::string>& units, double voxelSize) {
+    std::string s = "    <FieldData>\n";
+    s += stringArray("units", units);
+    s += stringArray("length_unit", {"m"});
+    s += stringArray("axes", {"world space, metres: x east, y north, z up"});
+    if (voxelSize > 0)
+        s += "      <DataArray type=\"Float64\" Name=\"voxel_size_m\" NumberOfTuples=\"1\" format=\"ascii\">" +
+             detail::num(voxelSize) + "</DataArray>\n";
+    s += "    </FieldData>\n";
+    return s;
+}
+
+template <typename T>
+struct VtkType;
+template <>
+struct VtkType<float> {
+    static constexpr const char* name = "Float32";
+};
+template <>
+struct VtkType<std::uint8_t> {
+    static constexpr const char* name = "UInt8";
+};
+template <>
+struct VtkType<std::int32_t> {
+    static constexpr const char* name = "Int32";
+};
+
+}  // namespace
+
+void writeStateVti(const Domain& domain, const std::string& path, const Cave* cave) {
+    const Dims& d = domain.dims;
+    if (d.count() == 0) throw RuntimeError("cannot write " + path + ": the domain has no voxels");
+    const std::string h = detail::num(domain.voxelSize);
+    const std::string extent =
+        "0 " + std::to_string(d.nx) + " 0 " + std::to_string(d.ny) + " 0 " + std::to_string(d.nz);
+    std::string arrays, appended;
+    std::vector<std::string> units;
+    auto add = [&](const auto& grid, const std::string& name, const std::string& unit) {
+        using T = typename std::decay_t<decltype(grid.data)>::value_type;
+        if (grid.size() != d.count()) return;
+        arrays += "        <DataArray type=\"" + std::string(VtkType<T>::name) + "\" Name=\"" + name +
+                  "\" NumberOfComponents=\"1\" format=\"appended\" offset=\"" + std::to_string(appended.size()) +
+                  "\"/>\n";
+        detail::appendValue(appended, std::uint64_t(grid.size() * sizeof(T)));
+        detail::appendBytes(appended, grid.data.data(), grid.size());
+        units.push_back(name + ": " + unit);
+    };
+    add(domain.porosity, "porosity", "1 (fraction of the voxel that holds water)");
+    add(domain.porosity0, "porosity0", "1 (initial porosity)");
+    add(domain.flags, "flags",
+        "bits: 1 source, 2 sink, 4 protochannel, 8 channel, 16 obstacle, 32 fracture, 64 rock.channel");
+    add(domain.zone, "zone", "index (stage-1 zone: source index, -1 none)");
+    add(domain.pressure, "pressure", "1 (stage-2 pressure, relative to the source pressure)");
+    add(domain.flow, "flow", "voxel volumes per iteration (stage-2 flow f of the last iteration)");
+    add(domain.water, "water", "voxel volumes (stage-2 water contents)");
+    if (cave) {
+        if (!(cave->mask.dims == d))
+            throw RuntimeError("cannot write " + path + ": the cave is not on the domain's grid");
+        add(cave->mask, "cave", "1 = cave voxel, 0 = rock");
+    }
+
+    std::string xml;
+    xml.reserve(appended.size() + 4096);
+    xml += "<?xml version=\"1.0\"?>\n";
+    xml += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    xml += "  <ImageData WholeExtent=\"" + extent + "\" Origin=\"0 0 0\" Spacing=\"" + h + " " + h + " " + h + "\">\n";
+    xml += fieldData(units, domain.voxelSize);
+    xml += "    <Piece Extent=\"" + extent + "\">\n      <PointData>\n      </PointData>\n";
+    xml += "      <CellData Scalars=\"porosity\">\n" + arrays + "      </CellData>\n    </Piece>\n";
+    xml += "  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _";
+    xml += appended;
+    xml += "\n  </AppendedData>\n</VTKFile>\n";
+    detail::writeOut(path, xml);
+}
+
+void writeSkeletonVtp(const morpho::Skeleton& skeleton, const std::string& path, const Domain* domain) {
+    const std::vector<morpho::Branch> passages = findPassages(skeleton);
+    const std::size_t n = skeleton.nodes.size();
+    std::vector<int> passageOf(n, -1), degree(n, 0);
+    for (std::size_t p = passages.size(); p-- > 0;)
+        for (int v : passages[p].nodes) passageOf[std::size_t(v)] = int(p);
+    for (const auto& e : skeleton.edges) {
+        ++degree[std::size_t(e[0])];
+        ++degree[std::size_t(e[1])];
+    }
+    const bool withFields =
+        domain && domain->flow.size() == domain->dims.count() && domain->pressure.size() == domain->dims.count();
+    if (withFields)
+        for (const auto& node : skeleton.nodes)
+            if (node.voxel >= domain->dims.count())
+                throw RuntimeError("cannot write " + path + ": a skeleton node stands on voxel " +
+                                 std::to_string(node.voxel) + ", outside the domain");
+
+    std::ostringstream x;
+    auto beginArray = [&x](const char* type, const char* name, int components = 1) {
+        x << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
+          << "\" format=\"ascii\">\n         ";
+    };
+    auto endArray = [&x] { x << "\n        </DataArray>\n"; };
+    std::vector<std::string> units{"radius: m (node to the nearest wall)",
+                                   "passage_id: index (first passage through the node; -1 none)",
+                                   "degree: count (skeleton edges at the node)", "length_m: m (passage length)"};
+    if (withFields) {
+        units.push_back("flow: voxel volumes per iteration (stage-2 flow at the node's voxel)");
+        units.push_back("pressure: 1 (stage-2 pressure at the node's voxel, relative to the source pressure)");
+    }
+    x << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      << "  <PolyData>\n"
+      << fieldData(units, domain ? domain->voxelSize : 0.0) << "    <Piece NumberOfPoints=\"" << n
+      << "\" NumberOfVerts=\"0\" NumberOfLines=\"" << passages.size()
+      << "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n"
+      << "      <PointData Scalars=\"radius\">\n";
+    beginArray("Float64", "radius");
+    for (const auto& node : skeleton.nodes) x << ' ' << detail::num(node.radius);
+    endArray();
+    beginArray("Int32", "passage_id");
+    for (int p : passageOf) x << ' ' << p;
+    endArray();
+    beginArray("Int32", "degree");
+    for (int g : degree) x << ' ' << g;
+    endArray();
+    if (withFields) {
+        beginArray("Float32", "flow");
+        for (const auto& node : skeleton.nodes) x << ' ' << detail::num(domain->flow[node.voxel]);
+        endArray();
+        beginArray("Float32", "pressure");
+        for (const auto& node : skeleton.nodes) x << ' ' << detail::num(domain->pressure[node.voxel]);
+        endArray();
+    }
+    x << "      </PointData>\n      <CellData Scalars=\"passage_id\">\n";
+    beginArray("Int32", "passage_id");
+    for (std::size_t p = 0; p < passages.size(); ++p) x << ' ' << p;
+    endArray();
+    beginArray("Float64", "length_m");
+    for (const auto& p : passages) x << ' ' << detail::num(p.length_m);
+    endArray();
+    x << "      </CellData>\n      <Points>\n";
+    beginArray("Float64", "Points", 3);
+    for (const auto& node : skeleton.nodes)
+        x << "  " << detail::num(node.position[0]) << ' ' << detail::num(node.position[1]) << ' '
+          << detail::num(node.position[2]);
+    endArray();
+    x << "      </Points>\n      <Lines>\n";
+    beginArray("Int64", "connectivity");
+    for (const auto& p : passages)
+        for (int v : p.nodes) x << ' ' << v;
+    endArray();
+    beginArray("Int64", "offsets");
+    std::size_t offset = 0;
+    for (const auto& p : passages) x << ' ' << (offset += p.nodes.size());
+    endArray();
+    x << "      </Lines>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+    detail::writeOut(path, x.str());
+}
+
+}  // namespace cavesim::formats
