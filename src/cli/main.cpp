@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "cli/progress_bar.h"
 #include "core/error.h"
+#include "sim/parameters.h"
 
 int main(int argc, char** argv) {
     using namespace cavesim;
@@ -40,6 +41,12 @@ int main(int argc, char** argv) {
     CLI::App* reportCmd = app.add_subcommand("report", "Rebuild report.json and report.md from a run's files");
     reportCmd->add_option("dir", reportDir, "Output directory of an earlier run")->required();
 
+    bool example = false;
+    CLI::App* referenceCmd =
+        app.add_subcommand("reference", "Print the scenario reference (Markdown, docs/scenario-format.md)");
+    referenceCmd->add_flag("--example", example,
+                           "Print a complete, commented example scenario instead (every key at its default)");
+
     app::ReproduceOptions repro;
     CLI::App* reproCmd =
         app.add_subcommand("reproduce", "Run the paper's figure scenarios and write docs/reproduction.md");
@@ -70,6 +77,10 @@ int main(int argc, char** argv) {
         }
         if (*validateCmd) {
             std::printf("%s\n", app::validateSummary(validatePath).c_str());
+            return 0;
+        }
+        if (*referenceCmd) {
+            std::fputs((example ? exampleScenarioToml() : scenarioReferenceMarkdown()).c_str(), stdout);
             return 0;
         }
         if (*reportCmd) {

@@ -394,6 +394,7 @@ std::vector<ParamSection> makeRegistry() {
             voxelBox("at", &SourceSpec::box, false, "one voxel (give `at` or `box`)")
                 .unitIs("voxels")
                 .isRequired("[30, 30, 19]")
+            .defaultShown("*required* (or `box`)")
                 .rangeShown("inside the domain"),
             voxelBox("box", &SourceSpec::box, true, "inclusive voxel indices of a box (give `at` or `box`)")
                 .unitIs("voxels")
@@ -419,6 +420,7 @@ std::vector<ParamSection> makeRegistry() {
                        voxelBox("at", &SinkSpec::box, false, "one voxel (give `at` or `box`)")
                            .unitIs("voxels")
                            .isRequired("[30, 30, 0]")
+            .defaultShown("*required* (or `box`)")
                            .rangeShown("inside the domain"),
                        voxelBox("box", &SinkSpec::box, true, "inclusive voxel indices of a box (give `at` or `box`)")
                            .unitIs("voxels")
@@ -681,7 +683,8 @@ std::string defaultText(const ParamSection& s, const Param& p) {
     if (!p.defaultText.empty()) return p.defaultText;
     if (p.required) return "*required*";
     if (p.type == ParamType::kVoxelBox) return "–";
-    return "`" + paramValueText(p.get(s.defaults())) + "`";
+    const std::string v = paramValueText(p.get(s.defaults()));
+    return v.find('"') == std::string::npos ? v : "`" + v + "`";
 }
 
 std::string sectionTitle(const ParamSection& s) {
