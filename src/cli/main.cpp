@@ -67,12 +67,15 @@ int main(int argc, char** argv) {
             if (!meshStyle.empty()) run.meshStyle = meshStyle == "voxel" ? MeshStyle::kVoxel : MeshStyle::kSmooth;
             cli::ProgressBar bar(quiet);
             app::PipelineOptions callbacks;
-            callbacks.progress = [&bar](const std::string& phase, long done, long total) { bar.update(phase, done, total); };
+            callbacks.progress = [&bar](const std::string& phase, long done, long total) {
+                bar.update(phase, done, total);
+            };
             callbacks.log = [&bar](const std::string& message) { bar.log(message); };
             const app::RunOutcome done = app::runScenario(run, callbacks);
             bar.log("wrote " + done.out.string() + " in " + std::to_string(done.seconds).substr(0, 5) + " s" +
-                    (done.breakthroughIteration ? ", breakthrough at iteration " + std::to_string(*done.breakthroughIteration)
-                                                : std::string()));
+                    (done.breakthroughIteration
+                         ? ", breakthrough at iteration " + std::to_string(*done.breakthroughIteration)
+                         : std::string()));
             return 0;
         }
         if (*validateCmd) {
@@ -95,8 +98,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());
         return 2;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "cavesim: failed: out of memory (the run needs more than this process may use: "
-                             "a smaller [domain] size, image_width or fewer snapshots need less)\n");
+        std::fprintf(stderr,
+                     "cavesim: failed: out of memory (the run needs more than this process may use: "
+                     "a smaller [domain] size, image_width or fewer snapshots need less)\n");
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "cavesim: failed: %s\n", e.what());

@@ -394,7 +394,7 @@ std::vector<ParamSection> makeRegistry() {
             voxelBox("at", &SourceSpec::box, false, "one voxel (give `at` or `box`)")
                 .unitIs("voxels")
                 .isRequired("[30, 30, 19]")
-            .defaultShown("*required* (or `box`)")
+                .defaultShown("*required* (or `box`)")
                 .rangeShown("inside the domain"),
             voxelBox("box", &SourceSpec::box, true, "inclusive voxel indices of a box (give `at` or `box`)")
                 .unitIs("voxels")
@@ -420,7 +420,7 @@ std::vector<ParamSection> makeRegistry() {
                        voxelBox("at", &SinkSpec::box, false, "one voxel (give `at` or `box`)")
                            .unitIs("voxels")
                            .isRequired("[30, 30, 0]")
-            .defaultShown("*required* (or `box`)")
+                           .defaultShown("*required* (or `box`)")
                            .rangeShown("inside the domain"),
                        voxelBox("box", &SinkSpec::box, true, "inclusive voxel indices of a box (give `at` or `box`)")
                            .unitIs("voxels")
@@ -659,6 +659,16 @@ std::string choicesText(const Param& p) {
     for (const auto& c : p.choices) out += (out.empty() ? "`\"" : ", `\"") + std::string(c.name) + "\"`";
     return out;
 }
+
+std::string rangeText(const Param& p);
+
+}  // namespace
+
+std::string paramRangeText(const Param& p) {
+    return rangeText(p);
+}
+
+namespace {
 
 std::string rangeText(const Param& p) {
     if (!p.rangeText.empty()) return p.rangeText;

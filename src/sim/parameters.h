@@ -120,6 +120,9 @@ std::pair<const ParamSection*, const Param*> findParam(const Scenario& scenario,
 /// `value` as written in TOML (`0.5`, `"max"`, `[1, 2, 3]`).
 std::string paramValueText(const ParamValue& value);
 
+/// The allowed range of `p` as the reference shows it ("(0, 10⁶]", "1–64", the choice names).
+std::string paramRangeText(const Param& p);
+
 /// The scenario reference in Markdown (docs/scenario-format.md is exactly this text).
 std::string scenarioReferenceMarkdown();
 
