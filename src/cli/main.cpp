@@ -10,6 +10,7 @@
 #include "cli/progress_bar.h"
 #include "core/error.h"
 #include "sim/parameters.h"
+#include "sim/scenario_io.h"
 
 int main(int argc, char** argv) {
     using namespace cavesim;
@@ -98,9 +99,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());
         return 2;
     } catch (const std::bad_alloc&) {
+        const Scenario d;
         std::fprintf(stderr,
                      "cavesim: failed: out of memory (the run needs more than this process may use: "
-                     "a smaller [domain] size, image_width or fewer snapshots need less)\n");
+                     "a smaller %s, %s or fewer %s need less)\n",
+                     scenarioKey(d, &d.size).c_str(), scenarioKey(d, &d.output.imageWidth).c_str(),
+                     scenarioKey(d, &d.stage2.snapshots).c_str());
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "cavesim: failed: %s\n", e.what());

@@ -297,7 +297,7 @@ private:
 /// The registry entry of the field `pick` selects in a scenario with one entry in every table of
 /// arrays: the parser's cross-key rules find their keys through it.
 template <typename F>
-const Param& entryOf(F pick) {
+std::pair<const ParamSection*, const Param*> probeParam(F pick) {
     static Scenario probe = [] {
         Scenario p;
         p.spheres.resize(1);
@@ -307,7 +307,20 @@ const Param& entryOf(F pick) {
         p.sinks.resize(1);
         return p;
     }();
-    return *findParam(probe, pick(probe)).second;
+    return findParam(probe, pick(probe));
+}
+
+/// The registry entry of the field `pick` selects in a scenario with one entry in every table of
+/// arrays: cross-key rules and messages find their keys through it.
+template <typename F>
+const Param& entryOf(F pick) {
+    return *probeParam(pick).second;
+}
+
+/// The section holding the field `pick` selects.
+template <typename F>
+const ParamSection& sectionOf(F pick) {
+    return *probeParam(pick).first;
 }
 
 struct ParseContext {
@@ -570,40 +583,47 @@ std::string where(const Scenario& s, int line) {
 }  // namespace
 
 void validateScenario(const Scenario& s) {
+    const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
+    const ParamSection& sink = sectionOf([](Scenario& p) { return &p.sinks[0].box; });
     for (std::size_t i = 0; i < s.sources.size(); ++i) {
         for (int c = 0; c < 3; ++c) {
             if (s.sources[i].box.lo[c] < 0 || s.sources[i].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sources[i].line) + ": [[source]] " + std::to_string(i + 1) +
+                throw InputError(where(s, s.sources[i].line) + ": " + source.header() + " " + std::to_string(i + 1) +
                                  " lies outside the domain");
         }
         for (std::size_t j = 0; j < s.sinks.size(); ++j) {
             if (boxesOverlap(s.sources[i].box, s.sinks[j].box)) {
-                throw InputError(where(s, s.sinks[j].line) + ": key 'sink' (entry " + std::to_string(j + 1) +
-                                 ") overlaps [[source]] entry " + std::to_string(i + 1) + " (line " +
-                                 std::to_string(s.sources[i].line) + "): a voxel cannot be both source and sink");
+                throw InputError(where(s, s.sinks[j].line) + ": key '" + sink.path + "' (entry " +
+                                 std::to_string(j + 1) + ") overlaps " + source.header() + " entry " +
+                                 std::to_string(i + 1) + " (line " + std::to_string(s.sources[i].line) +
+                                 "): a voxel cannot be both source and sink");
             }
         }
     }
     for (std::size_t j = 0; j < s.sinks.size(); ++j)
         for (int c = 0; c < 3; ++c)
             if (s.sinks[j].box.lo[c] < 0 || s.sinks[j].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sinks[j].line) + ": [[sink]] " + std::to_string(j + 1) +
+                throw InputError(where(s, s.sinks[j].line) + ": " + sink.header() + " " + std::to_string(j + 1) +
                                  " lies outside the domain");
     if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty()) {
-        throw InputError(s.path + ": key 'source': at least one [[source]] is needed when a stage is enabled");
+        throw InputError(s.path + ": key '" + source.path + "': at least one " + source.header() +
+                         " is needed when a stage is enabled");
     }
     if (s.stage2.enabled && s.sinks.empty()) {
-        throw InputError(s.path +
-                         ": key 'stage2.enabled' = true: stage 2 needs at least one [[sink]] "
-                         "(add a [[sink]] or set [stage2] enabled = false)");
+        const auto [stage2, enabled] = findParam(s, &s.stage2.enabled);
+        throw InputError(s.path + ": key '" + stage2->qualified(enabled->key) +
+                         "' = true: stage 2 needs at least one " + sink.header() + " (add a " + sink.header() +
+                         " or set " + stage2->header() + " " + enabled->key + " = false)");
     }
 }
 
 Scenario parseScenarioString(std::string_view text, const std::string& sourceName) {
-    if (deepestDottedKey(text) > 32)
+    if (deepestDottedKey(text) > 32) {
+        const Scenario d;
         throw InputError(sourceName +
-                         ": a dotted key or table name of more than 32 parts; cavesim's keys have at "
-                         "most 3 (e.g. rock.noise.scale)");
+                         ": a dotted key or table name of more than 32 parts; cavesim's keys have at most 3 (e.g. " +
+                         scenarioKey(d, &d.noise.scale) + ")");
+    }
     toml::table root;
     try {
         root = toml::parse(text, sourceName);
