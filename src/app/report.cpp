@@ -6,13 +6,14 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/error.h"
 #include "app/state.h"
+#include "core/error.h"
 #include "core/fnv.h"
-#include "sim/scenario_io.h"
 #include "mesh/cave_mesh.h"
 #include "morpho/analysis.h"
 #include "morpho/reference_ranges.h"
+#include "sim/parameters.h"
+#include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
 
@@ -27,7 +28,9 @@ std::string checksum(const Grid3<T>& g) {
     return h.hex();
 }
 
-nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json num(double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 nlohmann::json stage1Json(const Stage1Result& r) {
     nlohmann::json zones = nlohmann::json::array();
@@ -47,12 +50,8 @@ nlohmann::json stage1Json(const Stage1Result& r) {
                          {"flow_resistance", num(z.flowResistance)},
                          {"seconds", num(z.seconds)}});
     }
-    return {{"zones", r.zones},
-            {"zone_voxels", r.zoneVoxels},
-            {"protochannel_voxels", r.protochannelVoxels},
-            {"per_zone", zones},
-            {"seconds_zones", num(r.zoneSeconds)},
-            {"seconds", num(r.seconds)}};
+    return {{"zones", r.zones},  {"zone_voxels", r.zoneVoxels},         {"protochannel_voxels", r.protochannelVoxels},
+            {"per_zone", zones}, {"seconds_zones", num(r.zoneSeconds)}, {"seconds", num(r.seconds)}};
 }
 
 nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
@@ -88,7 +87,9 @@ nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
 
 // ---- report.md ---------------------------------------------------------------------------------
 
-std::string fmt(const nlohmann::json& v, int digits = 3) { return formatValue(v, digits); }
+std::string fmt(const nlohmann::json& v, int digits = 3) {
+    return formatValue(v, digits);
+}
 
 }  // namespace
 
@@ -166,11 +167,15 @@ std::string paperIndexText(const PaperCave& p, int row) {
 }
 
 nlohmann::json meshJson(const mesh::MeshStats& m) {
-    return {{"vertices", m.vertices},         {"faces", m.faces},
-            {"area_m2", num(m.areaM2)},       {"volume_m3", num(m.volumeM3)},
+    return {{"vertices", m.vertices},
+            {"faces", m.faces},
+            {"area_m2", num(m.areaM2)},
+            {"volume_m3", num(m.volumeM3)},
             {"euler_characteristic", m.eulerCharacteristic},
-            {"closed", m.closed},             {"manifold", m.manifold},
-            {"components", m.components},     {"seconds", num(m.seconds)}};
+            {"closed", m.closed},
+            {"manifold", m.manifold},
+            {"components", m.components},
+            {"seconds", num(m.seconds)}};
 }
 
 nlohmann::json analysisJson(const morpho::CaveAnalysis& a) {
@@ -218,28 +223,12 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
        << s.size[2] << " voxels of " << s.voxelSize << " m (" << s.size[0] * s.voxelSize << " × "
        << s.size[1] * s.voxelSize << " × " << s.size[2] * s.voxelSize << " m), seed " << s.seed << ", "
        << fmt(r.value("threads", nlohmann::json(1))) << " thread(s); " << s.sources.size() << " source(s), "
-       << s.sinks.size() << " sink(s), " << s.spheres.size() << " obstacle(s), " << s.planes.size()
-       << " plane(s), " << s.channels.size() << " given channel(s).\n\n";
+       << s.sinks.size() << " sink(s), " << s.spheres.size() << " obstacle(s), " << s.planes.size() << " plane(s), "
+       << s.channels.size() << " given channel(s).\n\n";
 
-    md << "## Parameters\n\n| stage | parameter | value |\n|---|---|---|\n";
-    md << "| rock | porosity | " << s.rockPorosity << " |\n";
-    md << "| rock | noise amplitude, scale | " << s.noise.amplitude << ", " << s.noise.scale << " |\n";
-    md << "| stage 1 | enabled | " << (s.stage1.enabled ? "yes" : "no") << " |\n";
-    if (s.stage1.enabled) {
-        md << "| stage 1 | protosinks | " << choiceName(s.stage1.protosinks);
-        if (s.stage1.protosinks == ProtosinkMode::kClustered) md << " (" << s.stage1.clusters << " clusters)";
-        md << " |\n| stage 1 | zone front speed | " << choiceName(s.stage1.permeability) << " |\n";
-    }
-    md << "| stage 2 | enabled | " << (s.stage2.enabled ? "yes" : "no") << " |\n";
-    if (s.stage2.enabled) {
-        md << "| stage 2 | iterations | " << s.stage2.iterations << " |\n";
-        md << "| stage 2 | P_rate : P_rate_channel | " << s.stage2.pRate << " : " << s.stage2.pRateChannel << " |\n";
-        md << "| stage 2 | w0, wa, m | " << s.stage2.w0 << ", " << s.stage2.wa << ", " << s.stage2.m << " |\n";
-        md << "| stage 2 | channel threshold | " << s.stage2.channelThreshold << " |\n";
-        md << "| stage 2 | protochannel, source porosity | " << s.stage2.protochannelPorosity << ", "
-           << s.stage2.sourcePorosity << " |\n";
-        md << "| stage 2 | transport weight | " << choiceName(s.stage2.weight) << " |\n";
-    }
+    md << "## Parameters\n\nEvery key of the scenario's tables; a value that differs from the default is in bold, "
+          "with the default beside it.\n\n"
+       << parameterTableMarkdown(s);
 
     const PaperCave* paper = paperCave(s.name);
 
@@ -263,8 +252,9 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     const auto& st2 = at(r, "stage2");
     if (!st2.is_null()) {
         md << "- Stage 2: " << fmt(at(st2, "iterations")) << " iterations; breakthrough at iteration "
-           << fmt(at(st2, "breakthrough_iteration")) << "; iteration at which each source joined a sink: "
-           << at(st2, "source_connected_iteration").dump() << ".\n";
+           << fmt(at(st2, "breakthrough_iteration"))
+           << "; iteration at which each source joined a sink: " << at(st2, "source_connected_iteration").dump()
+           << ".\n";
         md << "- Water balance: injected " << fmt(at(st2, "water_injected"), 6) << ", drained "
            << fmt(at(st2, "water_drained"), 6) << ", relative error " << fmt(at(st2, "water_balance_rel_error"), 2)
            << ".\n";
@@ -285,12 +275,14 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     }
 
     md << "\n## Pictures\n\n";
-    const std::pair<const char*, const char*> pictures[] = {
-        {"perspective.png", "perspective"}, {"plan.png", "plan (from above)"},
-        {"side_xz.png", "side (x–z)"},      {"side_yz.png", "side (y–z)"},
-        {"zones.png", "stage-1 zones and protochannels"},
-        {"pressure.png", "stage-2 pressure"}, {"flow.png", "stage-2 flow"},
-        {"sequence.png", "stage-2 snapshots"}};
+    const std::pair<const char*, const char*> pictures[] = {{"perspective.png", "perspective"},
+                                                            {"plan.png", "plan (from above)"},
+                                                            {"side_xz.png", "side (x–z)"},
+                                                            {"side_yz.png", "side (y–z)"},
+                                                            {"zones.png", "stage-1 zones and protochannels"},
+                                                            {"pressure.png", "stage-2 pressure"},
+                                                            {"flow.png", "stage-2 flow"},
+                                                            {"sequence.png", "stage-2 snapshots"}};
     for (const auto& [file, caption] : pictures)
         if (fs::exists(fs::path(dir) / "images" / file)) md << "![" << caption << "](images/" << file << ")\n\n";
 

@@ -13,12 +13,21 @@
 #include "app/pipeline.h"
 #include "app/report.h"
 #include "core/error.h"
+#include "sim/parameters.h"
 #include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
 
 namespace cavesim::app {
 namespace {
+
+/// The scenario setting (table, key and value) that makes `extent` the cave, as written in a file.
+std::string caveSetting(CaveExtent extent) {
+    Scenario s;
+    s.output.cave = extent;
+    const auto [section, param] = findParam(s, &s.output.cave);
+    return section->header() + " " + param->key + " = " + paramValueText(param->get(section->record(s, 0)));
+}
 
 struct Figure {
     const char* scenario;
@@ -28,44 +37,54 @@ struct Figure {
 };
 
 const Figure kFigures[] = {
-    {"fig05_equal", "Figure 5 (left): two sources of equal pressure",
+    {"fig05_equal",
+     "Figure 5 (left): two sources of equal pressure",
      "Two sources of equal pressure divide the rock between them on the bisector; each zone is a "
      "flow network for stage 1.",
      {"zones.png", nullptr, nullptr}},
-    {"fig05_ratio2", "Figure 5 (right): source pressures 2 : 1",
+    {"fig05_ratio2",
+     "Figure 5 (right): source pressures 2 : 1",
      "The source with the higher pressure claims the larger zone; the boundary bends around the weaker "
      "source.",
      {"zones.png", nullptr, nullptr}},
-    {"fig06", "Figure 6: protochannel systems",
+    {"fig06",
+     "Figure 6: protochannel systems",
      "Protochannels branch outward from a core at each source; zones of neighbouring sources act as "
      "obstacles to each other; a longer system develops where the zone is long.",
      {"zones.png", "perspective.png", nullptr}},
-    {"fig08", "Figure 8: channel growth in 2D, rates 0.05 : 0.001",
+    {"fig08",
+     "Figure 8: channel growth in 2D, rates 0.05 : 0.001",
      "Three synthetic protochannels hang from three sources; the sink is on the right boundary. The "
      "channel nearest the sink breaks through first; its neighbours then link up to it in sequence, "
      "climbing into its passage (phreatic loops).",
      {"sequence.png", "pressure.png", "flow.png"}},
-    {"fig09", "Figure 9: channel growth in 2D, rates 0.0025 : 0.001",
+    {"fig09",
+     "Figure 9: channel growth in 2D, rates 0.0025 : 0.001",
      "With little resistance in the rock, development toward the sink is preferred over linking up with "
      "a neighbour: each protochannel reaches the sink without first going through a neighbour and no "
      "phreatic loops form; the result depends only on the ratio of the rates.",
      {"sequence.png", "pressure.png", "flow.png"}},
-    {"fig10", "Figure 10: three sources, one sink area, spherical obstacles",
+    {"fig10",
+     "Figure 10: three sources, one sink area, spherical obstacles",
      "Protochannels branch from three sources; in stage 2 larger channels converge on a single sink "
      "area, the farther sources reaching it as captured tributaries; obstacles make the channels meander "
      "and form arches.",
      {"perspective.png", "plan.png", "side_xz.png"}},
-    {"fig11", "Figure 11: four sources, two sink areas, bedding planes and a vertical fracture",
+    {"fig11",
+     "Figure 11: four sources, two sink areas, bedding planes and a vertical fracture",
      "Passages stay nearly planar along two horizontal bedding planes; two nearly vertical passages "
      "follow the vertical fracture plane.",
      {"perspective.png", "plan.png", "side_xz.png"}},
-    {"fig12", "Figure 12: one source area, two weak sources, inclined bedding and dense fractures",
+    {"fig12",
+     "Figure 12: one source area, two weak sources, inclined bedding and dense fractures",
      "A single large source area paired with a sink area in the opposite wall gives a wide main passage; "
      "two weak sources at the top add tributaries along the inclined bedding planes.",
      {"perspective.png", "plan.png", "side_xz.png"}},
 };
 
-std::string fmt(const nlohmann::json& v) { return formatValue(v); }
+std::string fmt(const nlohmann::json& v) {
+    return formatValue(v);
+}
 
 const nlohmann::json& get(const nlohmann::json& j, std::initializer_list<const char*> path) {
     static const nlohmann::json null;
@@ -82,7 +101,8 @@ const nlohmann::json& get(const nlohmann::json& j, std::initializer_list<const c
 void reproduce(const ReproduceOptions& opt, const LogFn& log) {
     const fs::path scenarios(opt.scenarioDir);
     if (!fs::is_directory(scenarios))
-        throw InputError(opt.scenarioDir + ": no such folder of scenarios (run from the repository root or give --scenarios)");
+        throw InputError(opt.scenarioDir +
+                         ": no such folder of scenarios (run from the repository root or give --scenarios)");
     // Check every scenario before running any, so a typo costs nothing.
     std::vector<std::pair<const Figure*, Scenario>> runs;
     for (const Figure& f : kFigures) {
@@ -99,7 +119,9 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
 
     std::ostringstream md;
     md << "# Reproducing Pytel & Mann (JCGT 2015)\n\n"
-          "Generated by `cavesim reproduce` (" << threads << " thread(s)); every number below is measured from the "
+          "Generated by `cavesim reproduce` ("
+       << threads
+       << " thread(s)); every number below is measured from the "
           "runs it made. Pictures are copied from the run folders into `docs/images/`. Definitions of the "
           "network counts: [network-definitions.md](network-definitions.md); choices our reading of the paper "
           "had to make: [model.md](model.md).\n\n";
@@ -130,8 +152,8 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         if (!res.alsoMeasured.is_null()) withProto.push_back({s.name, res.alsoMeasured});
 
         md << "## " << fig->title << "\n\n**Paper.** " << fig->paper << "\n\n**Ours** (`scenarios/" << fig->scenario
-           << ".toml`, " << s.size[0] << "×" << s.size[1] << "×" << s.size[2] << " voxels of " << s.voxelSize
-           << " m, " << fmt(get(r, {"timing_s", "total"})) << " s). ";
+           << ".toml`, " << s.size[0] << "×" << s.size[1] << "×" << s.size[2] << " voxels of " << s.voxelSize << " m, "
+           << fmt(get(r, {"timing_s", "total"})) << " s). ";
         if (!get(r, {"stage1"}).is_null())
             md << "Stage 1: zone voxels per source " << get(r, {"stage1", "zone_voxels"}).dump() << ", "
                << fmt(get(r, {"stage1", "protochannel_voxels"})) << " protochannel voxels. ";
@@ -181,16 +203,19 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
     md << "## Table 4: morphometric indices\n\nOurs: convex-hull field (rectangular field in parentheses); the "
           "paper's values from its Table 4. Confined ranges (paper Table 2): density 0.049–0.406 m/m², coverage "
           "13.56–58.51 %, porosity 1.1–12 %, W 0.65–4.53 m.\n\n"
-          "The cave as the stage-2 channels (the default, `[output] cave = \"channels\"`):\n\n";
+          "The cave as the stage-2 channels (the default, `"
+       << caveSetting(CaveExtent::kChannels) << "`):\n\n";
     table4(reports);
-    md << "\nThe same runs with the stage-1 protochannels as side passages (`[output] cave = "
-          "\"with_protochannels\"`; the paper's Figures 10–12 show both kinds of channel and its text does not "
+    md << "\nThe same runs with the stage-1 protochannels as side passages (`"
+       << caveSetting(CaveExtent::kWithProtochannels)
+       << "`; the paper's Figures 10–12 show both kinds of channel and its text does not "
           "say which its indices measure):\n\n";
     table4(withProto);
     md << "\nCave category from the indices (channels; with protochannels): ";
     for (const auto& [n, r] : reports)
         for (const auto& [n2, r2] : withProto)
-            if (n == n2) md << n << " " << fmt(get(r, {"cave_category"})) << "; " << fmt(get(r2, {"cave_category"})) << ". ";
+            if (n == n2)
+                md << n << " " << fmt(get(r, {"cave_category"})) << "; " << fmt(get(r2, {"cave_category"})) << ". ";
     md << "\n\n## Network metrics (Collon et al. 2017)\n\nReal caves (34 networks): h_or 0.75–1.00, len_mean "
           "8.46–331.74 m, cv_len 0.90–2.56, h_len 0.07–0.67, k_mean 1.75–2.57, r_k −0.56 – −0.15, spl "
           "2.32–55.72, cpd 0.02–0.57, tortuosity 1.12–1.54.\n\n| scenario | h_or | len_mean_m | cv_len | h_len | "
@@ -212,8 +237,8 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         const char* p1 = p ? p->stage1Time : "–";
         const char* p2 = p ? p->stage2Time : "–";
         md << "| " << n << " | " << get(r, {"grid"}).dump() << " | " << fmt(get(r, {"timing_s", "stage1"})) << " | "
-           << fmt(get(r, {"timing_s", "stage2"})) << " | " << fmt(get(r, {"timing_s", "total"})) << " | " << p1
-           << " | " << p2 << " |\n";
+           << fmt(get(r, {"timing_s", "stage2"})) << " | " << fmt(get(r, {"timing_s", "total"})) << " | " << p1 << " | "
+           << p2 << " |\n";
     }
     writeFileAtomic(doc.string(), md.str());
     say("wrote " + doc.string() + " and " + std::to_string(reports.size()) + " run(s) under " + opt.outDir);

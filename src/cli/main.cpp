@@ -9,6 +9,8 @@
 #include "app/commands.h"
 #include "cli/progress_bar.h"
 #include "core/error.h"
+#include "sim/parameters.h"
+#include "sim/scenario_io.h"
 
 int main(int argc, char** argv) {
     using namespace cavesim;
@@ -40,6 +42,12 @@ int main(int argc, char** argv) {
     CLI::App* reportCmd = app.add_subcommand("report", "Rebuild report.json and report.md from a run's files");
     reportCmd->add_option("dir", reportDir, "Output directory of an earlier run")->required();
 
+    bool example = false;
+    CLI::App* referenceCmd =
+        app.add_subcommand("reference", "Print the scenario reference (Markdown, docs/scenario-format.md)");
+    referenceCmd->add_flag("--example", example,
+                           "Print a complete, commented example scenario instead (every key at its default)");
+
     app::ReproduceOptions repro;
     CLI::App* reproCmd =
         app.add_subcommand("reproduce", "Run the paper's figure scenarios and write docs/reproduction.md");
@@ -60,16 +68,23 @@ int main(int argc, char** argv) {
             if (!meshStyle.empty()) run.meshStyle = meshStyle == "voxel" ? MeshStyle::kVoxel : MeshStyle::kSmooth;
             cli::ProgressBar bar(quiet);
             app::PipelineOptions callbacks;
-            callbacks.progress = [&bar](const std::string& phase, long done, long total) { bar.update(phase, done, total); };
+            callbacks.progress = [&bar](const std::string& phase, long done, long total) {
+                bar.update(phase, done, total);
+            };
             callbacks.log = [&bar](const std::string& message) { bar.log(message); };
             const app::RunOutcome done = app::runScenario(run, callbacks);
             bar.log("wrote " + done.out.string() + " in " + std::to_string(done.seconds).substr(0, 5) + " s" +
-                    (done.breakthroughIteration ? ", breakthrough at iteration " + std::to_string(*done.breakthroughIteration)
-                                                : std::string()));
+                    (done.breakthroughIteration
+                         ? ", breakthrough at iteration " + std::to_string(*done.breakthroughIteration)
+                         : std::string()));
             return 0;
         }
         if (*validateCmd) {
             std::printf("%s\n", app::validateSummary(validatePath).c_str());
+            return 0;
+        }
+        if (*referenceCmd) {
+            std::fputs((example ? exampleScenarioToml() : scenarioReferenceMarkdown()).c_str(), stdout);
             return 0;
         }
         if (*reportCmd) {
@@ -84,8 +99,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());
         return 2;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "cavesim: failed: out of memory (the run needs more than this process may use: "
-                             "a smaller [domain] size, image_width or fewer snapshots need less)\n");
+        const Scenario d;
+        std::fprintf(stderr,
+                     "cavesim: failed: out of memory (the run needs more than this process may use: "
+                     "a smaller %s, %s or fewer %s need less)\n",
+                     scenarioKey(d, &d.size).c_str(), scenarioKey(d, &d.output.imageWidth).c_str(),
+                     scenarioKey(d, &d.stage2.snapshots).c_str());
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "cavesim: failed: %s\n", e.what());

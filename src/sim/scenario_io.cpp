@@ -16,33 +16,12 @@
 
 #include "core/error.h"
 #include "sim/default_scenario.h"
+#include "sim/parameters.h"
 
 namespace cavesim {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-template <typename E>
-struct EnumName {
-    E value;
-    const char* name;
-};
-constexpr EnumName<ProtosinkMode> kProtosinkNames[] = {{ProtosinkMode::kBoundary, "boundary"}, {ProtosinkMode::kClustered, "clustered"}};
-constexpr EnumName<ZoneSpeed> kZoneSpeedNames[] = {{ZoneSpeed::kUniform, "uniform"}, {ZoneSpeed::kPorosity, "porosity"}};
-constexpr EnumName<GridFace> kFaceNames[] = {{GridFace::kMinusX, "-x"}, {GridFace::kPlusX, "+x"}, {GridFace::kMinusY, "-y"},
-                                             {GridFace::kPlusY, "+y"},  {GridFace::kMinusZ, "-z"}, {GridFace::kPlusZ, "+z"}};
-constexpr EnumName<TransportWeight> kWeightNames[] = {{TransportWeight::kProportional, "proportional"}, {TransportWeight::kUniform, "uniform"}};
-constexpr EnumName<FlowBlending> kBlendingNames[] = {{FlowBlending::kMax, "max"}, {FlowBlending::kSplit, "split"}};
-constexpr EnumName<MeshStyle> kMeshStyleNames[] = {{MeshStyle::kSmooth, "smooth"}, {MeshStyle::kVoxel, "voxel"}};
-constexpr EnumName<CaveExtent> kCaveNames[] = {{CaveExtent::kChannels, "channels"}, {CaveExtent::kWithProtochannels, "with_protochannels"}};
-constexpr EnumName<PlaneKind> kPlaneKindNames[] = {{PlaneKind::kBedding, "bedding"}, {PlaneKind::kFracture, "fracture"}};
-
-template <typename E, std::size_t N>
-std::string nameOf(const EnumName<E> (&table)[N], E v) {
-    for (const auto& e : table)
-        if (e.value == v) return e.name;
-    return "?";
-}
 
 /// Shortest decimal text that reads back as the same double (0.3, not 0.29999999999999999).
 std::string shortest(double v) {
@@ -138,7 +117,8 @@ int deepestDottedKey(std::string_view t) {
             for (int extra = 0; triple && extra < 2 && c + 1 < t.size() && t[c + 1] == ch; ++extra) ++c;
         } else if (ch == '.') {
             deepest = std::max(deepest, ++dots + 1);
-        } else if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == ' ' || ch == '\t')) {
+        } else if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == ' ' ||
+                     ch == '\t')) {
             dots = 0;
         }
     }
@@ -170,19 +150,20 @@ public:
         return table_.get(key);
     }
 
-    double number(const std::string& key, double def, double lo, double hi, bool loOpen = false,
-                  bool hiOpen = false) {
+    double number(const std::string& key, double def, double lo, double hi, bool loOpen = false, bool hiOpen = false) {
         const toml::node* n = get(key);
         if (!n) return def;
         return toNumber(key, *n, lo, hi, loOpen, hiOpen);
     }
 
-    double toNumber(const std::string& key, const toml::node& n, double lo, double hi, bool loOpen,
-                    bool hiOpen) const {
+    double toNumber(const std::string& key, const toml::node& n, double lo, double hi, bool loOpen, bool hiOpen) const {
         double v = 0;
-        if (auto i = n.as_integer()) v = double(i->get());
-        else if (auto f = n.as_floating_point()) v = f->get();
-        else fail(key, &n, "must be a number " + range(lo, hi, loOpen, hiOpen));
+        if (auto i = n.as_integer())
+            v = double(i->get());
+        else if (auto f = n.as_floating_point())
+            v = f->get();
+        else
+            fail(key, &n, "must be a number " + range(lo, hi, loOpen, hiOpen));
         const bool ok = std::isfinite(v) && (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
         if (!ok) fail(key, &n, "must be a number " + range(lo, hi, loOpen, hiOpen));
         return v;
@@ -196,7 +177,8 @@ public:
 
     long toInteger(const std::string& key, const toml::node& n, long lo, long hi) const {
         auto i = n.as_integer();
-        const std::string allowed = "must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        const std::string allowed =
+            "must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
         if (!i) fail(key, &n, allowed);
         const long v = long(i->get());
         if (v < lo || v > hi) fail(key, &n, allowed);
@@ -209,19 +191,6 @@ public:
         auto b = n->as_boolean();
         if (!b) fail(key, n, "must be true or false");
         return b->get();
-    }
-
-    template <typename E, std::size_t N>
-    E choice(const std::string& key, E def, const EnumName<E> (&allowed)[N]) {
-        const toml::node* n = get(key);
-        if (!n) return def;
-        std::string list;
-        for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + std::string(a.name) + "\"";
-        auto s = n->as_string();
-        if (!s) fail(key, n, "must be one of " + list);
-        for (const auto& a : allowed)
-            if (s->get() == a.name) return a.value;
-        fail(key, n, "must be one of " + list);
     }
 
     Vec3d vec3(const std::string& key, const Vec3d& def, double lo, double hi, bool required = false) {
@@ -240,9 +209,12 @@ public:
         Vec3d v{};
         for (std::size_t c = 0; c < 3; ++c) {
             const toml::node& e = *a->get(c);
-            if (e.as_integer()) v[c] = double(e.as_integer()->get());
-            else if (e.as_floating_point()) v[c] = e.as_floating_point()->get();
-            else fail(key, &n, allowed);
+            if (e.as_integer())
+                v[c] = double(e.as_integer()->get());
+            else if (e.as_floating_point())
+                v[c] = e.as_floating_point()->get();
+            else
+                fail(key, &n, allowed);
             if (!std::isfinite(v[c]) || v[c] < lo || v[c] > hi) fail(key, &n, allowed);
         }
         return v;
@@ -277,8 +249,9 @@ public:
         auto a = n->as_array();
         if (!a) fail(key, n, "must be an array of tables, written [[" + qualified(key) + "]]");
         if (a->size() > maxEntries)
-            fail(key, nullptr, "at most " + std::to_string(maxEntries) + " [[" + qualified(key) + "]] entries, found " +
-                                   std::to_string(a->size()));
+            fail(key, nullptr,
+                 "at most " + std::to_string(maxEntries) + " [[" + qualified(key) + "]] entries, found " +
+                     std::to_string(a->size()));
         for (const toml::node& e : *a) {
             if (!e.is_table()) fail(key, &e, "every entry must be a table, written [[" + qualified(key) + "]]");
             out.push_back(e.as_table());
@@ -321,25 +294,68 @@ private:
     std::set<std::string> seen_;
 };
 
-VoxelBox readBox(TableReader& r, const std::array<int, 3>& size, const std::string& what) {
-    const toml::node* at = r.get("at");
-    const toml::node* box = r.get("box");
-    if (at && box) r.fail("box", box, "give either 'at' or 'box', not both");
-    if (!at && !box) r.fail("at", nullptr, "a " + what + " needs 'at = [x, y, z]' or 'box = [[x0, y0, z0], [x1, y1, z1]]'");
-    const long big = 1 << 20;
+/// The registry entry of the field `pick` selects in a scenario with one entry in every table of
+/// arrays: the parser's cross-key rules find their keys through it.
+template <typename F>
+std::pair<const ParamSection*, const Param*> probeParam(F pick) {
+    static Scenario probe = [] {
+        Scenario p;
+        p.spheres.resize(1);
+        p.planes.resize(1);
+        p.channels.resize(1);
+        p.sources.resize(1);
+        p.sinks.resize(1);
+        return p;
+    }();
+    return findParam(probe, pick(probe));
+}
+
+/// The registry entry of the field `pick` selects in a scenario with one entry in every table of
+/// arrays: cross-key rules and messages find their keys through it.
+template <typename F>
+const Param& entryOf(F pick) {
+    return *probeParam(pick).second;
+}
+
+/// The section holding the field `pick` selects.
+template <typename F>
+const ParamSection& sectionOf(F pick) {
+    return *probeParam(pick).first;
+}
+
+struct ParseContext {
+    Scenario& s;
+    const std::string& file;
+    std::size_t channelPoints = 0;  // all polylines together: the effective scenario rewrites each
+};
+
+/// `at` or `box` of a source or sink (entries `at`, then `box`, of `section`).
+VoxelBox readBox(TableReader& r, const ParamSection& section, const Param& atParam, const std::array<int, 3>& size) {
+    const Param& boxParam = *std::find_if(section.params.begin(), section.params.end(),
+                                          [](const Param& p) { return p.type == ParamType::kVoxelBox; });
+    const std::string& atKey = atParam.key;
+    const std::string& boxKey = boxParam.key;
+    const std::string& what = section.path;
+    const toml::node* at = r.get(atKey);
+    const toml::node* box = r.get(boxKey);
+    if (at && box) r.fail(boxKey, box, "give either '" + atKey + "' or '" + boxKey + "', not both");
+    if (!at && !box)
+        r.fail(atKey, nullptr,
+               "a " + what + " needs '" + atKey + " = [x, y, z]' or '" + boxKey + " = [[x0, y0, z0], [x1, y1, z1]]'");
+    const long lo = long(atParam.range.lo), hi = long(atParam.range.hi);
     VoxelBox b;
     if (at) {
-        b.lo = r.ivec3("at", *at, -big, big);
+        b.lo = r.ivec3(atKey, *at, lo, hi);
         b.hi = b.lo;
     } else {
         auto a = box->as_array();
-        if (!a || a->size() != 2) r.fail("box", box, "must be [[x0, y0, z0], [x1, y1, z1]] (inclusive voxel indices)");
-        b.lo = r.ivec3("box", *a->get(0), -big, big);
-        b.hi = r.ivec3("box", *a->get(1), -big, big);
+        if (!a || a->size() != 2) r.fail(boxKey, box, "must be [[x0, y0, z0], [x1, y1, z1]] (inclusive voxel indices)");
+        b.lo = r.ivec3(boxKey, *a->get(0), lo, hi);
+        b.hi = r.ivec3(boxKey, *a->get(1), lo, hi);
     }
     for (int c = 0; c < 3; ++c) {
         const toml::node* n = at ? at : box;
-        const std::string key = at ? "at" : "box";
+        const std::string& key = at ? atKey : boxKey;
         if (b.lo[c] > b.hi[c]) r.fail(key, n, "box corners must satisfy x0 <= x1, y0 <= y1, z0 <= z1");
         if (b.lo[c] < 0 || b.hi[c] >= size[c]) {
             r.fail(key, n,
@@ -350,201 +366,206 @@ VoxelBox readBox(TableReader& r, const std::array<int, 3>& size, const std::stri
     return b;
 }
 
+long longBound(double v) {
+    return v >= double(std::numeric_limits<long>::max()) ? std::numeric_limits<long>::max() : long(v);
+}
+
+void readValue(TableReader& r, const ParamSection& section, const Param& p, const toml::node& node, void* record,
+               ParseContext& ctx);
+
+/// Reads entry `p` of `section` from `r` into `record`; absent keys keep the record's default.
+void readParam(TableReader& r, const ParamSection& section, const Param& p, void* record, ParseContext& ctx) {
+    if (p.type == ParamType::kVoxelBox) return;  // read with `at`
+    if (p.type == ParamType::kVoxel) {
+        const VoxelBox b = readBox(r, section, p, ctx.s.size);
+        const ParamValue at = std::vector<std::int64_t>(b.lo.begin(), b.lo.end());
+        std::vector<std::int64_t> corners(b.lo.begin(), b.lo.end());
+        corners.insert(corners.end(), b.hi.begin(), b.hi.end());
+        if (b.lo == b.hi)
+            p.set(record, at);
+        else
+            section
+                .param(std::find_if(section.params.begin(), section.params.end(),
+                                    [](const Param& q) { return q.type == ParamType::kVoxelBox; })
+                           ->key)
+                .set(record, ParamValue(corners));
+        return;
+    }
+    const std::string& key = p.key;
+    const toml::node* n = r.get(key);
+    if (!n && p.required) r.fail(key, nullptr, "is required: " + p.shapeText);
+    if (n) readValue(r, section, p, *n, record, ctx);
+    const Param& pRateChannel = entryOf([](Scenario& s) { return &s.stage2.pRateChannel; });
+    if (&p == &pRateChannel) {
+        const Param& pRate = entryOf([](Scenario& s) { return &s.stage2.pRate; });
+        const Stage2Options& g2 = ctx.s.stage2;
+        if (g2.pRateChannel > g2.pRate) {
+            // Blame the key the file gives; if it gives only p_rate, the default channel rate is the bound.
+            if (n)
+                r.fail(key, n,
+                       "must not exceed " + pRate.key + " (" + shortest(g2.pRate) +
+                           "): channels resist flow less than rock");
+            r.fail(pRate.key, r.get(pRate.key),
+                   "must be at least " + key + " (" + shortest(g2.pRateChannel) +
+                       ", the default): channels resist flow less than rock; lower " + key + " too");
+        }
+    }
+}
+
+/// Converts and checks node `n` of entry `p` and sets it in `record`.
+void readValue(TableReader& r, const ParamSection& section, const Param& p, const toml::node& node, void* record,
+               ParseContext& ctx) {
+    const std::string& key = p.key;
+    const toml::node* n = &node;
+    const ParamRange& g = p.range;
+    const double scale = g.domainScaled ? std::max({ctx.s.size[0], ctx.s.size[1], ctx.s.size[2]}) * 4.0 : 1.0;
+    const double lo = g.lo * scale, hi = g.hi * scale;
+    switch (p.type) {
+        case ParamType::kBool: {
+            auto b = n->as_boolean();
+            if (!b) r.fail(key, n, "must be true or false");
+            p.set(record, b->get());
+            break;
+        }
+        case ParamType::kInt:
+            p.set(record, std::int64_t(r.toInteger(key, *n, longBound(lo), longBound(hi))));
+            break;
+        case ParamType::kReal:
+            p.set(record, r.toNumber(key, *n, lo, hi, g.loOpen, g.hiOpen));
+            break;
+        case ParamType::kString: {
+            auto str = n->as_string();
+            const std::string allowed = "must be " + p.shapeText;
+            if (!str || str->get().empty() || str->get().size() > 64) r.fail(key, n, allowed);
+            for (char c : str->get())
+                if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_')) r.fail(key, n, allowed);
+            p.set(record, str->get());
+            break;
+        }
+        case ParamType::kChoice: {
+            std::string list;
+            for (const auto& a : p.choices) list += (list.empty() ? "\"" : ", \"") + std::string(a.name) + "\"";
+            auto str = n->as_string();
+            if (!str) r.fail(key, n, "must be one of " + list);
+            const auto it = std::find_if(p.choices.begin(), p.choices.end(),
+                                         [&](const ParamChoice& c) { return str->get() == c.name; });
+            if (it == p.choices.end()) r.fail(key, n, "must be one of " + list);
+            p.set(record, str->get());
+            break;
+        }
+        case ParamType::kInt3: {
+            const auto v = r.ivec3(key, *n, longBound(lo), longBound(hi));
+            p.set(record, std::vector<std::int64_t>(v.begin(), v.end()));
+            break;
+        }
+        case ParamType::kReal3: {
+            const Vec3d v = r.toVec3(key, *n, lo, hi);
+            p.set(record, std::vector<double>(v.begin(), v.end()));
+            if (&p == &entryOf([](Scenario& s) { return &s.planes[0].normal; }) && std::hypot(v[0], v[1], v[2]) < 1e-9)
+                r.fail(key, n, "must not be zero");
+            break;
+        }
+        case ParamType::kReal3List: {
+            auto a = n->as_array();
+            if (!a || a->size() < p.minItems) r.fail(key, n, "must be " + p.shapeText);
+            if (p.maxItems > 0 && a->size() > p.maxItems)
+                r.fail(key, n, "must have at most " + std::to_string(p.maxItems) + " points");
+            if (&p == &entryOf([](Scenario& s) { return &s.channels[0].points; })) {
+                ctx.channelPoints += a->size();
+                if (ctx.channelPoints > 65536)
+                    r.fail(key, n, "all " + section.header() + " polylines together may have at most 65536 points");
+            }
+            std::vector<Vec3d> v;
+            for (const toml::node& e : *a) v.push_back(r.toVec3(key, e, lo, hi));
+            p.set(record, v);
+            break;
+        }
+        case ParamType::kChoiceList: {
+            const std::string allowed = "must be " + p.shapeText;
+            auto a = n->as_array();
+            if (!a) r.fail(key, n, allowed);
+            std::vector<std::string> v;
+            for (const toml::node& e : *a) {
+                auto str = e.as_string();
+                if (!str) r.fail(key, n, allowed);
+                const bool known = std::any_of(p.choices.begin(), p.choices.end(),
+                                               [&](const ParamChoice& c) { return str->get() == c.name; });
+                if (!known || std::find(v.begin(), v.end(), str->get()) != v.end()) r.fail(key, n, allowed);
+                v.push_back(str->get());
+            }
+            p.set(record, v);
+            break;
+        }
+        case ParamType::kIntList: {
+            auto a = n->as_array();
+            if (!a) r.fail(key, n, "must be " + p.shapeText);
+            if (p.maxItems > 0 && a->size() > p.maxItems)
+                r.fail(key, n, "must list at most " + std::to_string(p.maxItems) + " " + p.unit);
+            std::vector<std::int64_t> v;
+            for (const toml::node& e : *a) v.push_back(r.toInteger(key, e, longBound(lo), longBound(hi)));
+            p.set(record, v);
+            break;
+        }
+        case ParamType::kVoxel:
+        case ParamType::kVoxelBox:
+            break;
+    }
+}
+
+/// Reads `table` as `section` into `record`, then its child sections, then rejects unknown keys.
+void readSection(const ParamSection& section, const toml::table& table, TableReader& r, void* record,
+                 ParseContext& ctx) {
+    std::vector<std::string> known;
+    for (const Param& p : section.params) {
+        readParam(r, section, p, record, ctx);
+        known.push_back(p.key);
+    }
+    for (const ParamSection& child : scenarioParameters()) {
+        const std::string prefix = section.path.empty() ? "" : section.path + ".";
+        if (child.path.empty() || child.path.compare(0, prefix.size(), prefix) != 0 ||
+            child.path.find('.', prefix.size()) != std::string::npos)
+            continue;
+        const std::string key = child.path.substr(prefix.size());
+        known.push_back(key);
+        if (child.isArray) {
+            const std::size_t limit =
+                child.limitReason.empty() ? child.maxEntries : std::numeric_limits<std::size_t>::max();
+            std::size_t entries = 0;
+            for (const toml::table* t : r.tableArray(key, limit)) {
+                if (!child.limitReason.empty() && entries == child.maxEntries)
+                    throw InputError(ctx.file + ":" + std::to_string(t->source().begin.line) + ": key '" + child.path +
+                                     "': at most " + std::to_string(child.maxEntries) + " " + child.header() +
+                                     " entries (" + child.limitReason + ")");
+                ++entries;
+                TableReader er(*t, child.path, ctx.file);
+                void* rec = child.append(ctx.s);
+                if (child.setLine) child.setLine(rec, int(t->source().begin.line));
+                readSection(child, *t, er, rec, ctx);
+            }
+        } else if (const toml::table* t = r.subtable(key)) {
+            TableReader cr(*t, child.path, ctx.file);
+            readSection(child, *t, cr, child.mutableRecord(ctx.s, 0), ctx);
+        }
+        if (&child == findParam(ctx.s, &ctx.s.size).first) {
+            const Scenario& s = ctx.s;
+            const double cells = double(s.size[0]) * s.size[1] * s.size[2];
+            if (cells > 16e6) {  // stage 2 holds about 300 bytes per voxel: 16 M voxels need about 5 GB
+                r.fail(key, table.get(key),
+                       scenarioKey(s, &s.size) + " gives " + std::to_string(long(cells)) +
+                           " voxels; at most 16,000,000 are allowed (stage 2 needs about 300 bytes per voxel)");
+            }
+        }
+    }
+    r.finish(known);
+}
+
 Scenario parseTable(const toml::table& root, const std::string& file) {
     Scenario s;
     s.path = file;
     TableReader top(root, "", file);
-    if (const toml::node* n = top.get("name")) {
-        auto str = n->as_string();
-        const std::string allowed = "must be a string of 1-64 letters, digits, '-' or '_'";
-        if (!str || str->get().empty() || str->get().size() > 64) top.fail("name", n, allowed);
-        for (char c : str->get())
-            if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_')) top.fail("name", n, allowed);
-        s.name = str->get();
-    }
-    s.seed = std::uint64_t(top.integer("seed", 1, 0, std::numeric_limits<long>::max()));
-
-    if (const toml::table* t = top.subtable("domain")) {
-        TableReader r(*t, "domain", file);
-        if (const toml::node* n = r.get("size")) s.size = r.ivec3("size", *n, 1, 1024);
-        s.voxelSize = r.number("voxel_size", 1.0, 1e-3, 1e4);
-        r.finish({"size", "voxel_size"});
-    }
-    const double cells = double(s.size[0]) * s.size[1] * s.size[2];
-    if (cells > 16e6) {  // stage 2 holds about 300 bytes per voxel: 16 M voxels need about 5 GB
-        top.fail("domain", root.get("domain"), "domain.size gives " + std::to_string(long(cells)) +
-                                                   " voxels; at most 16,000,000 are allowed (stage 2 needs about 300 bytes per voxel)");
-    }
-    const double ext = std::max({s.size[0], s.size[1], s.size[2]}) * 4.0;
-
-    if (const toml::table* t = top.subtable("rock")) {
-        TableReader r(*t, "rock", file);
-        s.rockPorosity = r.number("porosity", s.rockPorosity, 0, 1);
-        if (const toml::table* nt = r.subtable("noise")) {
-            TableReader nr(*nt, "rock.noise", file);
-            s.noise.amplitude = nr.number("amplitude", 0.0, 0, 1);
-            s.noise.scale = nr.number("scale", 8.0, 0.01, 1e6);
-            s.noise.octaves = int(nr.integer("octaves", 3, 1, 8));
-            nr.finish({"amplitude", "scale", "octaves"});
-        }
-        for (const toml::table* st : r.tableArray("sphere")) {
-            TableReader sr(*st, "rock.sphere", file);
-            SphereObstacle o;
-            o.center = sr.vec3("center", o.center, -ext, ext, true);
-            o.radius = sr.number("radius", o.radius, 0, 1e6, true);
-            o.corePorosity = sr.number("core_porosity", o.corePorosity, 0, 1);
-            sr.finish({"center", "radius", "core_porosity"});
-            s.spheres.push_back(o);
-        }
-        for (const toml::table* pt : r.tableArray("plane", 1024)) {
-            TableReader pr(*pt, "rock.plane", file);
-            PlaneFeature p;
-            p.point = pr.vec3("point", p.point, -ext, ext, true);
-            p.normal = pr.vec3("normal", p.normal, -1e6, 1e6);
-            if (std::hypot(p.normal[0], p.normal[1], p.normal[2]) < 1e-9) pr.fail("normal", pt->get("normal"), "must not be zero");
-            p.thickness = pr.number("thickness", p.thickness, 0, 1e6, true);
-            p.porosity = pr.number("porosity", p.porosity, 0, 1);
-            p.extent = pr.number("extent", 0.0, 0, 1e6);
-            p.kind = pr.choice("kind", p.kind, kPlaneKindNames);
-            pr.finish({"point", "normal", "thickness", "porosity", "extent", "kind"});
-            s.planes.push_back(p);
-        }
-        std::size_t channelPoints = 0;  // all polylines together: the effective scenario rewrites each
-        for (const toml::table* ct : r.tableArray("channel", 1024)) {
-            TableReader cr(*ct, "rock.channel", file);
-            ChannelFeature c;
-            const toml::node* pts = cr.get("points");
-            if (!pts) cr.fail("points", nullptr, "is required: an array of at least 2 points [x, y, z]");
-            auto a = pts->as_array();
-            if (!a || a->size() < 2) cr.fail("points", pts, "must be an array of at least 2 points [x, y, z]");
-            channelPoints += a->size();
-            if (channelPoints > 65536)
-                cr.fail("points", pts, "all [[rock.channel]] polylines together may have at most 65536 points");
-            for (const toml::node& e : *a) c.points.push_back(cr.toVec3("points", e, -ext, ext));
-            c.radius = cr.number("radius", c.radius, 0, 1e6);
-            c.porosity = cr.number("porosity", c.porosity, 0, 1);
-            c.protochannel = cr.boolean("protochannel", c.protochannel);
-            cr.finish({"points", "radius", "porosity", "protochannel"});
-            s.channels.push_back(c);
-        }
-        r.finish({"porosity", "noise", "sphere", "plane", "channel"});
-    }
-
-    constexpr std::size_t kMaxTerminals = 256;  // each source marches its own zone front over the grid
-    for (const toml::table* t : top.tableArray("source", std::numeric_limits<std::size_t>::max())) {
-        TableReader r(*t, "source", file);
-        if (s.sources.size() == kMaxTerminals)
-            throw InputError(file + ":" + std::to_string(t->source().begin.line) + ": key 'source': at most " +
-                             std::to_string(kMaxTerminals) +
-                             " [[source]] entries (one [[source]] may be a box of many voxels)");
-        SourceSpec src;
-        src.line = int(t->source().begin.line);
-        src.box = readBox(r, s.size, "source");
-        src.pressure = r.number("pressure", 1.0, 0, 1e6, true);
-        r.finish({"at", "box", "pressure"});
-        s.sources.push_back(src);
-    }
-    for (const toml::table* t : top.tableArray("sink", std::numeric_limits<std::size_t>::max())) {
-        TableReader r(*t, "sink", file);
-        if (s.sinks.size() == kMaxTerminals)
-            throw InputError(file + ":" + std::to_string(t->source().begin.line) + ": key 'sink': at most " +
-                             std::to_string(kMaxTerminals) +
-                             " [[sink]] entries (one [[sink]] may be a box of many voxels)");
-        SinkSpec snk;
-        snk.line = int(t->source().begin.line);
-        snk.box = readBox(r, s.size, "sink");
-        r.finish({"at", "box"});
-        s.sinks.push_back(snk);
-    }
-
-    if (const toml::table* t = top.subtable("stage1")) {
-        TableReader r(*t, "stage1", file);
-        Stage1Options& g = s.stage1;
-        g.enabled = r.boolean("enabled", g.enabled);
-        g.protosinks = r.choice("protosinks", g.protosinks, kProtosinkNames);
-        g.clusters = int(r.integer("clusters", g.clusters, 1, 64));
-        g.clusterRadius = r.number("cluster_radius", g.clusterRadius, 0, 1e6);
-        if (const toml::node* n = r.get("aim")) {
-            auto a = n->as_array();
-            if (!a) r.fail("aim", n, "must be an array of points [x, y, z]");
-            if (a->size() > 1024) r.fail("aim", n, "must have at most 1024 points");
-            for (const toml::node& e : *a) g.aim.push_back(r.toVec3("aim", e, -ext, ext));
-        }
-        g.permeability = r.choice("permeability", g.permeability, kZoneSpeedNames);
-        g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
-        g.capacityExponent = r.number("capacity_exponent", g.capacityExponent, 0, 8, true);
-        g.maxGraphVoxels = r.integer("max_graph_voxels", g.maxGraphVoxels, 1, 1000000000L);
-        if (const toml::node* n = r.get("boundary_faces")) {
-            const std::string allowed =
-                "must be an array of distinct grid faces out of \"-x\", \"+x\", \"-y\", \"+y\", \"-z\", \"+z\" "
-                "(may be empty)";
-            auto a = n->as_array();
-            if (!a) r.fail("boundary_faces", n, allowed);
-            g.boundaryFaces.clear();
-            for (const toml::node& e : *a) {
-                auto str = e.as_string();
-                if (!str) r.fail("boundary_faces", n, allowed);
-                const auto face = std::find_if(std::begin(kFaceNames), std::end(kFaceNames),
-                                               [&](const auto& f) { return str->get() == f.name; });
-                if (face == std::end(kFaceNames) ||
-                    std::find(g.boundaryFaces.begin(), g.boundaryFaces.end(), face->value) != g.boundaryFaces.end())
-                    r.fail("boundary_faces", n, allowed);
-                g.boundaryFaces.push_back(face->value);
-            }
-        }
-        g.protosinkShare = r.number("protosink_share", g.protosinkShare, 0, 1, true);
-        g.branchFlow = r.number("branch_flow", g.branchFlow, 0, 1);
-        g.resistanceNoise = r.number("resistance_noise", g.resistanceNoise, 0, 1);
-        r.finish({"enabled", "protosinks", "clusters", "cluster_radius", "aim", "permeability",
-                  "protochannel_porosity", "capacity_exponent", "max_graph_voxels", "boundary_faces",
-                  "protosink_share", "branch_flow", "resistance_noise"});
-    }
-    if (const toml::table* t = top.subtable("stage2")) {
-        TableReader r(*t, "stage2", file);
-        Stage2Options& g = s.stage2;
-        g.enabled = r.boolean("enabled", g.enabled);
-        g.iterations = int(r.integer("iterations", g.iterations, 0, 1000000));
-        g.pRate = r.number("p_rate", g.pRate, 0, 1e6, true);
-        g.pRateChannel = r.number("p_rate_channel", g.pRateChannel, 0, 1e6, true);
-        if (g.pRateChannel > g.pRate) {
-            // Blame the key the file gives; if it gives only p_rate, the default channel rate is the bound.
-            if (t->get("p_rate_channel"))
-                r.fail("p_rate_channel", t->get("p_rate_channel"),
-                       "must not exceed p_rate (" + shortest(g.pRate) + "): channels resist flow less than rock");
-            r.fail("p_rate", t->get("p_rate"),
-                   "must be at least p_rate_channel (" + shortest(g.pRateChannel) +
-                       ", the default): channels resist flow less than rock; lower p_rate_channel too");
-        }
-        g.w0 = r.number("w0", g.w0, 0, 10);
-        g.wa = r.number("wa", g.wa, 0, 100);
-        g.m = r.number("m", g.m, 0, 4, true);
-        g.pressureScale = r.number("pressure_scale", g.pressureScale, 0, 1e9);
-        g.channelThreshold = r.number("channel_threshold", g.channelThreshold, 0, 1, true);
-        g.protochannelPorosity = r.number("protochannel_porosity", g.protochannelPorosity, 0, 1);
-        g.sourcePorosity = r.number("source_porosity", g.sourcePorosity, 0, 1, true);
-        g.weight = r.choice("weight", g.weight, kWeightNames);
-        g.blending = r.choice("blending", g.blending, kBlendingNames);
-        if (const toml::node* n = r.get("snapshots")) {
-            auto a = n->as_array();
-            if (!a) r.fail("snapshots", n, "must be an array of iteration numbers");
-            if (a->size() > 32) r.fail("snapshots", n, "must list at most 32 iterations");
-            for (const toml::node& e : *a) g.snapshots.push_back(int(r.toInteger("snapshots", e, 0, 1000000)));
-        }
-        r.finish({"enabled", "iterations", "p_rate", "p_rate_channel", "w0", "wa", "m", "pressure_scale",
-                  "channel_threshold", "protochannel_porosity", "source_porosity", "weight", "blending",
-                  "snapshots"});
-    }
-    if (const toml::table* t = top.subtable("output")) {
-        TableReader r(*t, "output", file);
-        OutputOptions& o = s.output;
-        o.meshStyle = r.choice("mesh_style", o.meshStyle, kMeshStyleNames);
-        o.imageWidth = int(r.integer("image_width", o.imageWidth, 256, 8192));
-        o.images = r.boolean("images", o.images);
-        o.mesh = r.boolean("mesh", o.mesh);
-        o.cave = r.choice("cave", o.cave, kCaveNames);
-        r.finish({"mesh_style", "image_width", "images", "mesh", "cave"});
-    }
-    top.finish({"name", "seed", "domain", "rock", "source", "sink", "stage1", "stage2", "output"});
+    ParseContext ctx{s, file};
+    const ParamSection& topSection = scenarioParameters().front();
+    readSection(topSection, root, top, &s, ctx);
     validateScenario(s);
     return s;
 }
@@ -562,38 +583,47 @@ std::string where(const Scenario& s, int line) {
 }  // namespace
 
 void validateScenario(const Scenario& s) {
+    const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
+    const ParamSection& sink = sectionOf([](Scenario& p) { return &p.sinks[0].box; });
     for (std::size_t i = 0; i < s.sources.size(); ++i) {
         for (int c = 0; c < 3; ++c) {
             if (s.sources[i].box.lo[c] < 0 || s.sources[i].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sources[i].line) + ": [[source]] " + std::to_string(i + 1) +
+                throw InputError(where(s, s.sources[i].line) + ": " + source.header() + " " + std::to_string(i + 1) +
                                  " lies outside the domain");
         }
         for (std::size_t j = 0; j < s.sinks.size(); ++j) {
             if (boxesOverlap(s.sources[i].box, s.sinks[j].box)) {
-                throw InputError(where(s, s.sinks[j].line) + ": key 'sink' (entry " + std::to_string(j + 1) +
-                                 ") overlaps [[source]] entry " + std::to_string(i + 1) + " (line " +
-                                 std::to_string(s.sources[i].line) + "): a voxel cannot be both source and sink");
+                throw InputError(where(s, s.sinks[j].line) + ": key '" + sink.path + "' (entry " +
+                                 std::to_string(j + 1) + ") overlaps " + source.header() + " entry " +
+                                 std::to_string(i + 1) + " (line " + std::to_string(s.sources[i].line) +
+                                 "): a voxel cannot be both source and sink");
             }
         }
     }
     for (std::size_t j = 0; j < s.sinks.size(); ++j)
         for (int c = 0; c < 3; ++c)
             if (s.sinks[j].box.lo[c] < 0 || s.sinks[j].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sinks[j].line) + ": [[sink]] " + std::to_string(j + 1) +
+                throw InputError(where(s, s.sinks[j].line) + ": " + sink.header() + " " + std::to_string(j + 1) +
                                  " lies outside the domain");
     if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty()) {
-        throw InputError(s.path + ": key 'source': at least one [[source]] is needed when a stage is enabled");
+        throw InputError(s.path + ": key '" + source.path + "': at least one " + source.header() +
+                         " is needed when a stage is enabled");
     }
     if (s.stage2.enabled && s.sinks.empty()) {
-        throw InputError(s.path + ": key 'stage2.enabled' = true: stage 2 needs at least one [[sink]] "
-                                  "(add a [[sink]] or set [stage2] enabled = false)");
+        const auto [stage2, enabled] = findParam(s, &s.stage2.enabled);
+        throw InputError(s.path + ": key '" + stage2->qualified(enabled->key) +
+                         "' = true: stage 2 needs at least one " + sink.header() + " (add a " + sink.header() +
+                         " or set " + stage2->header() + " " + enabled->key + " = false)");
     }
 }
 
 Scenario parseScenarioString(std::string_view text, const std::string& sourceName) {
-    if (deepestDottedKey(text) > 32)
-        throw InputError(sourceName + ": a dotted key or table name of more than 32 parts; cavesim's keys have at "
-                                      "most 3 (e.g. rock.noise.scale)");
+    if (deepestDottedKey(text) > 32) {
+        const Scenario d;
+        throw InputError(sourceName +
+                         ": a dotted key or table name of more than 32 parts; cavesim's keys have at most 3 (e.g. " +
+                         scenarioKey(d, &d.noise.scale) + ")");
+    }
     toml::table root;
     try {
         root = toml::parse(text, sourceName);
@@ -626,123 +656,112 @@ Scenario parseScenarioFile(const std::string& path) {
     return parseScenarioString(buf.str(), path);
 }
 
-std::string choiceName(ProtosinkMode v) { return nameOf(kProtosinkNames, v); }
-std::string choiceName(ZoneSpeed v) { return nameOf(kZoneSpeedNames, v); }
-std::string choiceName(TransportWeight v) { return nameOf(kWeightNames, v); }
-
 std::string scenarioKey(const Scenario& s, const void* field) {
-    if (field == &s.stage1.maxGraphVoxels) return "stage1.max_graph_voxels";
-    throw RuntimeError("scenarioKey: not a registered field");
+    const auto [section, param] = findParam(s, field);
+    return section->qualified(param->key);
 }
 
-Scenario defaultScenario() { return parseScenarioString(kDefaultScenarioToml, "<built-in fig10>"); }
+Scenario defaultScenario() {
+    return parseScenarioString(kDefaultScenarioToml, "<built-in fig10>");
+}
 
 namespace {
 
-toml::array arr3(const Vec3d& v) { return toml::array{v[0], v[1], v[2]}; }
-toml::array iarr3(const std::array<int, 3>& v) { return toml::array{v[0], v[1], v[2]}; }
+/// The table at dotted `path` below `root`, made when missing.
+toml::table& tableAt(toml::table& root, const std::string& path) {
+    toml::table* t = &root;
+    std::size_t from = 0;
+    while (from < path.size()) {
+        const std::size_t dot = std::min(path.find('.', from), path.size());
+        const std::string part = path.substr(from, dot - from);
+        if (!t->contains(part)) t->insert(part, toml::table{});
+        t = t->get(part)->as_table();
+        from = dot + 1;
+    }
+    return *t;
+}
 
-toml::table boxTable(const VoxelBox& b) {
-    toml::table t;
-    if (b.lo == b.hi) t.insert("at", iarr3(b.lo));
-    else t.insert("box", toml::array{iarr3(b.lo), iarr3(b.hi)});
-    return t;
+toml::array intArray(const std::vector<std::int64_t>& v, std::size_t from, std::size_t count) {
+    toml::array a;
+    for (std::size_t i = from; i < from + count; ++i) a.push_back(v[i]);
+    return a;
+}
+
+/// Inserts entry `p` with value `v` into `t` (nothing for an absent `at` or `box`).
+void insertValue(toml::table& t, const Param& p, const ParamValue& v) {
+    switch (p.type) {
+        case ParamType::kBool:
+            t.insert(p.key, std::get<bool>(v));
+            break;
+        case ParamType::kInt:
+            t.insert(p.key, std::get<std::int64_t>(v));
+            break;
+        case ParamType::kReal:
+            t.insert(p.key, std::get<double>(v));
+            break;
+        case ParamType::kString:
+        case ParamType::kChoice:
+            t.insert(p.key, std::get<std::string>(v));
+            break;
+        case ParamType::kInt3:
+        case ParamType::kIntList: {
+            const auto& a = std::get<std::vector<std::int64_t>>(v);
+            t.insert(p.key, intArray(a, 0, a.size()));
+            break;
+        }
+        case ParamType::kReal3: {
+            toml::array a;
+            for (double x : std::get<std::vector<double>>(v)) a.push_back(x);
+            t.insert(p.key, a);
+            break;
+        }
+        case ParamType::kReal3List: {
+            toml::array a;
+            for (const Vec3d& x : std::get<std::vector<Vec3d>>(v)) a.push_back(toml::array{x[0], x[1], x[2]});
+            t.insert(p.key, a);
+            break;
+        }
+        case ParamType::kChoiceList: {
+            toml::array a;
+            for (const std::string& x : std::get<std::vector<std::string>>(v)) a.push_back(x);
+            t.insert(p.key, a);
+            break;
+        }
+        case ParamType::kVoxel: {
+            const auto& a = std::get<std::vector<std::int64_t>>(v);
+            if (!a.empty()) t.insert(p.key, intArray(a, 0, 3));
+            break;
+        }
+        case ParamType::kVoxelBox: {
+            const auto& a = std::get<std::vector<std::int64_t>>(v);
+            if (!a.empty()) t.insert(p.key, toml::array{intArray(a, 0, 3), intArray(a, 3, 3)});
+            break;
+        }
+    }
 }
 
 }  // namespace
 
 std::string scenarioToToml(const Scenario& s) {
     toml::table root;
-    root.insert("name", s.name);
-    root.insert("seed", static_cast<std::int64_t>(s.seed));
-    root.insert("domain", toml::table{{"size", iarr3(s.size)}, {"voxel_size", s.voxelSize}});
-
-    toml::table rock{{"porosity", s.rockPorosity},
-                     {"noise", toml::table{{"amplitude", s.noise.amplitude},
-                                           {"scale", s.noise.scale},
-                                           {"octaves", s.noise.octaves}}}};
-    if (!s.spheres.empty()) {
-        toml::array a;
-        for (const auto& o : s.spheres)
-            a.push_back(toml::table{{"center", arr3(o.center)}, {"radius", o.radius}, {"core_porosity", o.corePorosity}});
-        rock.insert("sphere", a);
-    }
-    if (!s.planes.empty()) {
-        toml::array a;
-        for (const auto& p : s.planes)
-            a.push_back(toml::table{{"point", arr3(p.point)},
-                                    {"normal", arr3(p.normal)},
-                                    {"thickness", p.thickness},
-                                    {"porosity", p.porosity},
-                                    {"extent", p.extent},
-                                    {"kind", nameOf(kPlaneKindNames, p.kind)}});
-        rock.insert("plane", a);
-    }
-    if (!s.channels.empty()) {
-        toml::array a;
-        for (const auto& c : s.channels) {
-            toml::array pts;
-            for (const auto& p : c.points) pts.push_back(arr3(p));
-            a.push_back(toml::table{{"points", pts},
-                                    {"radius", c.radius},
-                                    {"porosity", c.porosity},
-                                    {"protochannel", c.protochannel}});
+    for (const ParamSection& section : scenarioParameters()) {
+        if (section.isArray) {
+            const std::size_t n = section.count(s);
+            if (n == 0) continue;
+            const std::size_t dot = section.path.rfind('.');
+            toml::table& parent = tableAt(root, dot == std::string::npos ? "" : section.path.substr(0, dot));
+            toml::array entries;
+            for (std::size_t i = 0; i < n; ++i) {
+                toml::table t;
+                for (const Param& p : section.params) insertValue(t, p, p.get(section.record(s, i)));
+                entries.push_back(std::move(t));
+            }
+            parent.insert(section.path.substr(dot == std::string::npos ? 0 : dot + 1), std::move(entries));
+        } else {
+            toml::table& t = tableAt(root, section.path);
+            for (const Param& p : section.params) insertValue(t, p, p.get(section.record(s, 0)));
         }
-        rock.insert("channel", a);
     }
-    root.insert("rock", rock);
-
-    toml::array sources;
-    for (const auto& src : s.sources) {
-        toml::table t = boxTable(src.box);
-        t.insert("pressure", src.pressure);
-        sources.push_back(t);
-    }
-    if (!sources.empty()) root.insert("source", sources);
-    toml::array sinks;
-    for (const auto& snk : s.sinks) sinks.push_back(boxTable(snk.box));
-    if (!sinks.empty()) root.insert("sink", sinks);
-
-    const Stage1Options& g1 = s.stage1;
-    toml::array aim;
-    for (const auto& p : g1.aim) aim.push_back(arr3(p));
-    toml::array faces;
-    for (const GridFace f : g1.boundaryFaces) faces.push_back(nameOf(kFaceNames, f));
-    root.insert("stage1", toml::table{{"enabled", g1.enabled},
-                                      {"protosinks", nameOf(kProtosinkNames, g1.protosinks)},
-                                      {"clusters", g1.clusters},
-                                      {"cluster_radius", g1.clusterRadius},
-                                      {"aim", aim},
-                                      {"permeability", nameOf(kZoneSpeedNames, g1.permeability)},
-                                      {"protochannel_porosity", g1.protochannelPorosity},
-                                      {"capacity_exponent", g1.capacityExponent},
-                                      {"max_graph_voxels", static_cast<std::int64_t>(g1.maxGraphVoxels)},
-                                      {"boundary_faces", faces},
-                                      {"protosink_share", g1.protosinkShare},
-                                      {"branch_flow", g1.branchFlow},
-                                      {"resistance_noise", g1.resistanceNoise}});
-    const Stage2Options& g2 = s.stage2;
-    toml::array snaps;
-    for (int it : g2.snapshots) snaps.push_back(it);
-    root.insert("stage2", toml::table{{"enabled", g2.enabled},
-                                      {"iterations", g2.iterations},
-                                      {"p_rate", g2.pRate},
-                                      {"p_rate_channel", g2.pRateChannel},
-                                      {"w0", g2.w0},
-                                      {"wa", g2.wa},
-                                      {"m", g2.m},
-                                      {"pressure_scale", g2.pressureScale},
-                                      {"channel_threshold", g2.channelThreshold},
-                                      {"protochannel_porosity", g2.protochannelPorosity},
-                                      {"source_porosity", g2.sourcePorosity},
-                                      {"weight", nameOf(kWeightNames, g2.weight)},
-                                      {"blending", nameOf(kBlendingNames, g2.blending)},
-                                      {"snapshots", snaps}});
-    root.insert("output", toml::table{{"mesh_style", nameOf(kMeshStyleNames, s.output.meshStyle)},
-                                      {"image_width", s.output.imageWidth},
-                                      {"images", s.output.images},
-                                      {"mesh", s.output.mesh},
-                                      {"cave", nameOf(kCaveNames, s.output.cave)}});
     std::ostringstream os;
     os << "# Effective scenario: every key with its value, defaults filled in.\n" << root << "\n";
     return os.str();

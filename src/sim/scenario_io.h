@@ -33,11 +33,6 @@ std::string scenarioToToml(const Scenario& scenario);
 /// @throw InternalError if `field` is not a registered field of `scenario`
 std::string scenarioKey(const Scenario& scenario, const void* field);
 
-/// The scenario-file name of a choice ("clustered", "porosity", "proportional").
-std::string choiceName(ProtosinkMode v);
-std::string choiceName(ZoneSpeed v);
-std::string choiceName(TransportWeight v);
-
 /// The built-in default scenario (the Figure 10 scenario, scenarios/fig10.toml).
 Scenario defaultScenario();
 

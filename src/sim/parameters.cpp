@@ -1,0 +1,786 @@
+#include "sim/parameters.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace cavesim {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::int64_t kInt64Max = std::numeric_limits<std::int64_t>::max();
+
+/// A `Param` with setters for the optional fields, so an entry reads as one expression.
+struct P : Param {
+    P&& unitIs(std::string u) && {
+        unit = std::move(u);
+        return std::move(*this);
+    }
+    P&& rangeShown(std::string t) && {
+        rangeText = std::move(t);
+        return std::move(*this);
+    }
+    P&& defaultShown(std::string t) && {
+        defaultText = std::move(t);
+        return std::move(*this);
+    }
+    P&& isRequired(std::string ex) && {
+        required = true;
+        example = std::move(ex);
+        return std::move(*this);
+    }
+    P&& items(std::size_t lo, std::size_t hi) && {
+        minItems = lo;
+        maxItems = hi;
+        return std::move(*this);
+    }
+    P&& shape(std::string t) && {
+        shapeText = std::move(t);
+        return std::move(*this);
+    }
+};
+
+ParamRange rng(double lo, double hi, const char* ends = "[]", bool domainScaled = false) {
+    return ParamRange{lo, hi, ends[0] == '(', ends[1] == ')', domainScaled};
+}
+
+template <typename R, typename T>
+P base(const char* key, T R::*m, ParamType type, const char* description) {
+    P p;
+    p.key = key;
+    p.type = type;
+    p.description = description;
+    p.address = [m](const void* r) -> const void* { return &(static_cast<const R*>(r)->*m); };
+    return p;
+}
+
+template <typename R>
+P boolean(const char* key, bool R::*m, const char* description) {
+    P p = base(key, m, ParamType::kBool, description);
+    p.get = [m](const void* r) { return ParamValue(static_cast<const R*>(r)->*m); };
+    p.set = [m](void* r, const ParamValue& v) { static_cast<R*>(r)->*m = std::get<bool>(v); };
+    return p;
+}
+
+template <typename R, typename I>
+P integer(const char* key, I R::*m, ParamRange range, const char* description) {
+    P p = base(key, m, ParamType::kInt, description);
+    p.range = range;
+    p.get = [m](const void* r) { return ParamValue(static_cast<std::int64_t>(static_cast<const R*>(r)->*m)); };
+    p.set = [m](void* r, const ParamValue& v) { static_cast<R*>(r)->*m = static_cast<I>(std::get<std::int64_t>(v)); };
+    return p;
+}
+
+template <typename R>
+P real(const char* key, double R::*m, ParamRange range, const char* description) {
+    P p = base(key, m, ParamType::kReal, description);
+    p.range = range;
+    p.get = [m](const void* r) { return ParamValue(static_cast<const R*>(r)->*m); };
+    p.set = [m](void* r, const ParamValue& v) { static_cast<R*>(r)->*m = std::get<double>(v); };
+    return p;
+}
+
+template <typename R, typename E>
+P choice(const char* key, E R::*m, std::vector<ParamChoice> names, const char* description) {
+    P p = base(key, m, ParamType::kChoice, description);
+    p.choices = names;
+    p.get = [m, names](const void* r) {
+        for (const auto& c : names)
+            if (c.value == int(static_cast<const R*>(r)->*m)) return ParamValue(std::string(c.name));
+        throw RuntimeError("parameter registry: an enum value without a name");
+    };
+    p.set = [m, names](void* r, const ParamValue& v) {
+        for (const auto& c : names)
+            if (std::get<std::string>(v) == c.name) static_cast<R*>(r)->*m = static_cast<E>(c.value);
+    };
+    return p;
+}
+
+template <typename R, typename E>
+P choiceList(const char* key, std::vector<E> R::*m, std::vector<ParamChoice> names, const char* what,
+             const char* description) {
+    P p = base(key, m, ParamType::kChoiceList, description);
+    p.choices = names;
+    std::string list;
+    for (const auto& c : names) list += (list.empty() ? "\"" : ", \"") + std::string(c.name) + "\"";
+    p.shapeText = std::string("an array of distinct ") + what + " out of " + list + " (may be empty)";
+    p.get = [m, names](const void* r) {
+        std::vector<std::string> out;
+        for (const E e : static_cast<const R*>(r)->*m)
+            for (const auto& c : names)
+                if (c.value == int(e)) out.push_back(c.name);
+        return ParamValue(out);
+    };
+    p.set = [m, names](void* r, const ParamValue& v) {
+        auto& out = static_cast<R*>(r)->*m;
+        out.clear();
+        for (const auto& s : std::get<std::vector<std::string>>(v))
+            for (const auto& c : names)
+                if (s == c.name) out.push_back(static_cast<E>(c.value));
+    };
+    return p;
+}
+
+template <typename R>
+P int3(const char* key, std::array<int, 3> R::*m, ParamRange range, const char* description) {
+    P p = base(key, m, ParamType::kInt3, description);
+    p.range = range;
+    p.get = [m](const void* r) {
+        const auto& a = static_cast<const R*>(r)->*m;
+        return ParamValue(std::vector<std::int64_t>{a[0], a[1], a[2]});
+    };
+    p.set = [m](void* r, const ParamValue& v) {
+        const auto& a = std::get<std::vector<std::int64_t>>(v);
+        for (int c = 0; c < 3; ++c) (static_cast<R*>(r)->*m)[c] = int(a[c]);
+    };
+    return p;
+}
+
+template <typename R>
+P real3(const char* key, Vec3d R::*m, ParamRange range, const char* description) {
+    P p = base(key, m, ParamType::kReal3, description);
+    p.range = range;
+    p.shapeText = "an array of 3 numbers";
+    p.get = [m](const void* r) {
+        const auto& a = static_cast<const R*>(r)->*m;
+        return ParamValue(std::vector<double>{a[0], a[1], a[2]});
+    };
+    p.set = [m](void* r, const ParamValue& v) {
+        const auto& a = std::get<std::vector<double>>(v);
+        for (int c = 0; c < 3; ++c) (static_cast<R*>(r)->*m)[c] = a[c];
+    };
+    return p;
+}
+
+template <typename R>
+P real3List(const char* key, std::vector<Vec3d> R::*m, ParamRange range, const char* description) {
+    P p = base(key, m, ParamType::kReal3List, description);
+    p.range = range;
+    p.get = [m](const void* r) { return ParamValue(static_cast<const R*>(r)->*m); };
+    p.set = [m](void* r, const ParamValue& v) { static_cast<R*>(r)->*m = std::get<std::vector<Vec3d>>(v); };
+    return p;
+}
+
+template <typename R>
+P intList(const char* key, std::vector<int> R::*m, ParamRange range, const char* description) {
+    P p = base(key, m, ParamType::kIntList, description);
+    p.range = range;
+    p.get = [m](const void* r) {
+        const auto& a = static_cast<const R*>(r)->*m;
+        return ParamValue(std::vector<std::int64_t>(a.begin(), a.end()));
+    };
+    p.set = [m](void* r, const ParamValue& v) {
+        const auto& a = std::get<std::vector<std::int64_t>>(v);
+        static_cast<R*>(r)->*m = std::vector<int>(a.begin(), a.end());
+    };
+    return p;
+}
+
+/// `at` (one voxel) or `box` (two corners) of a terminal: the value is empty when the record's
+/// box is written the other way.
+template <typename R>
+P voxelBox(const char* key, VoxelBox R::*m, bool corners, const char* description) {
+    P p = base(key, m, corners ? ParamType::kVoxelBox : ParamType::kVoxel, description);
+    p.range = rng(-(1 << 20), 1 << 20);
+    p.get = [m, corners](const void* r) {
+        const VoxelBox& b = static_cast<const R*>(r)->*m;
+        std::vector<std::int64_t> v;
+        if ((b.lo == b.hi) != corners) {
+            v.assign(b.lo.begin(), b.lo.end());
+            if (corners) v.insert(v.end(), b.hi.begin(), b.hi.end());
+        }
+        return ParamValue(v);
+    };
+    p.set = [m, corners](void* r, const ParamValue& v) {
+        const auto& a = std::get<std::vector<std::int64_t>>(v);
+        VoxelBox& b = static_cast<R*>(r)->*m;
+        for (int c = 0; c < 3; ++c) {
+            b.lo[c] = int(a[c]);
+            b.hi[c] = int(a[corners ? c + 3 : c]);
+        }
+    };
+    return p;
+}
+
+/// A plain table whose record is `R` inside the scenario.
+template <typename R>
+ParamSection table(const char* path, R* (*of)(Scenario&), const char* heading, std::vector<P> params) {
+    ParamSection s;
+    s.path = path;
+    s.heading = heading;
+    s.params.assign(params.begin(), params.end());
+    s.count = [](const Scenario&) -> std::size_t { return 1; };
+    s.record = [of](const Scenario& sc, std::size_t) -> const void* { return of(const_cast<Scenario&>(sc)); };
+    s.mutableRecord = [of](Scenario& sc, std::size_t) -> void* { return of(sc); };
+    s.defaults = [of]() -> const void* {
+        static const Scenario d;
+        return of(const_cast<Scenario&>(d));
+    };
+    return s;
+}
+
+/// A table of arrays whose records are the elements of `v` in the scenario.
+template <typename R>
+ParamSection tableArray(const char* path, std::vector<R> Scenario::*v, std::size_t maxEntries, const char* heading,
+                        std::vector<P> params) {
+    ParamSection s;
+    s.path = path;
+    s.isArray = true;
+    s.maxEntries = maxEntries;
+    s.heading = heading;
+    s.params.assign(params.begin(), params.end());
+    s.count = [v](const Scenario& sc) { return (sc.*v).size(); };
+    s.record = [v](const Scenario& sc, std::size_t i) -> const void* { return &(sc.*v)[i]; };
+    s.mutableRecord = [v](Scenario& sc, std::size_t i) -> void* { return &(sc.*v)[i]; };
+    s.append = [v](Scenario& sc) -> void* { return &(sc.*v).emplace_back(); };
+    s.defaults = []() -> const void* {
+        static const R d{};
+        return &d;
+    };
+    return s;
+}
+
+Scenario* top(Scenario& s) {
+    return &s;
+}
+Scenario* domain(Scenario& s) {
+    return &s;
+}
+Scenario* rock(Scenario& s) {
+    return &s;
+}
+NoiseSettings* noise(Scenario& s) {
+    return &s.noise;
+}
+Stage1Options* stage1(Scenario& s) {
+    return &s.stage1;
+}
+Stage2Options* stage2(Scenario& s) {
+    return &s.stage2;
+}
+OutputOptions* output(Scenario& s) {
+    return &s.output;
+}
+
+std::vector<ParamSection> makeRegistry() {
+    using PM = ProtosinkMode;
+    using ZS = ZoneSpeed;
+    using GF = GridFace;
+    using TW = TransportWeight;
+    using FB = FlowBlending;
+    using MS = MeshStyle;
+    using CE = CaveExtent;
+    using PK = PlaneKind;
+    std::vector<ParamSection> r;
+
+    ParamSection& topLevel = r.emplace_back(table<Scenario>(
+        "", top, "Top level",
+        {
+            P(base("name", &Scenario::name, ParamType::kString, "names the default output folder `out/<name>`"))
+                .shape("a string of 1-64 letters, digits, '-' or '_'")
+                .rangeShown("1–64 characters of `A–Z a–z 0–9 _ -`"),
+            integer("seed", &Scenario::seed, rng(0, double(kInt64Max)),
+                    "seeds the rock noise and every random choice (stage-1 protosink clusters)")
+                .rangeShown("0 – 2⁶³−1"),
+        }));
+    {
+        Param& name = topLevel.params[0];
+        name.get = [](const void* s) { return ParamValue(static_cast<const Scenario*>(s)->name); };
+        name.set = [](void* s, const ParamValue& v) { static_cast<Scenario*>(s)->name = std::get<std::string>(v); };
+    }
+    topLevel.prose =
+        "A scenario is a TOML file. Every key is optional unless marked *required*; every key has a\n"
+        "default, a unit and an allowed range, listed here. Positions and sizes in `[domain]`, `[rock]`,\n"
+        "`[[source]]` and `[[sink]]` are in **voxel (index) units**: voxel `(i, j, k)` has its centre at\n"
+        "`((i, j, k) + 0.5) · voxel_size` metres in the output files. `z` is up. A domain with `ny = 1` is a\n"
+        "2D vertical section.\n\n"
+        "The parser is strict: an unknown or misspelt key, a wrong type, an out-of-range value, a source or\n"
+        "sink outside the domain, a source overlapping a sink, a stage 2 without a sink, or malformed TOML\n"
+        "gives one message naming the file, the line, the key, the value and what is allowed, and exit code\n"
+        "2; no output is written. `cavesim validate FILE` checks a file without running it. A run writes\n"
+        "the *effective* scenario (every default filled in) to `DIR/scenario.toml`; that file is itself a\n"
+        "valid scenario and reproduces the run (its last line, a comment, records the `state.vdb` the run\n"
+        "wrote, for `cavesim report`). A scenario is a regular file of at most 16 MiB whose dotted keys\n"
+        "and table names have at most 32 parts.\n\n"
+        "These key names are a contract: keys may be added, never renamed or repurposed.\n\n"
+        "`cavesim reference` prints this reference (this file is its output); `cavesim reference --example`\n"
+        "prints a complete scenario with every key at its default, commented.";
+
+    r.push_back(table<Scenario>(
+        "domain", domain, "",
+        {
+            int3("size", &Scenario::size, rng(1, 1024), "`nx, ny, nz`")
+                .unitIs("voxels")
+                .rangeShown("each 1–1024, product ≤ 16 M (stage 2 needs about 300 bytes per voxel)"),
+            real("voxel_size", &Scenario::voxelSize, rng(1e-3, 1e4), "edge of one voxel; scales every output length")
+                .unitIs("m"),
+        }));
+
+    r.push_back(table<Scenario>(
+        "rock", rock, "",
+        {
+            real("porosity", &Scenario::rockPorosity, rng(0, 1), "background porosity R (water capacity of a voxel)"),
+        }));
+
+    ParamSection& noiseSec = r.emplace_back(table<NoiseSettings>(
+        "rock.noise", noise, "gradient noise",
+        {
+            real("amplitude", &NoiseSettings::amplitude, rng(0, 1),
+                 "gradient-noise porosity variation, ± this (clamped to [0, 1])"),
+            real("scale", &NoiseSettings::scale, rng(0.01, 1e6), "feature size of the noise").unitIs("voxels"),
+            integer("octaves", &NoiseSettings::octaves, rng(1, 8), "fractal octaves, each half the size and amplitude"),
+        }));
+    noiseSec.notes =
+        "Write the noise as an inline table, `noise = { amplitude = 0.02, scale = 8.0 }`, or as `[rock.noise]`.";
+
+    ParamSection& sphere = r.emplace_back(
+        tableArray("rock.sphere", &Scenario::spheres, 4096, "obstacles",
+                   {
+                       real3("center", &SphereObstacle::center, rng(-1, 1, "[]", true), "centre")
+                           .unitIs("voxels")
+                           .isRequired("[30.0, 30.0, 10.0]"),
+                       real("radius", &SphereObstacle::radius, rng(0, 1e6, "(]"), "radius").unitIs("voxels"),
+                       real("core_porosity", &SphereObstacle::corePorosity, rng(0, 1),
+                            "porosity at the centre; it rises quadratically to the rock value at the rim"),
+                   }));
+    sphere.prose = "At most 4096 spheres.";
+
+    ParamSection& plane = r.emplace_back(tableArray(
+        "rock.plane", &Scenario::planes, 1024, "bedding planes and fractures",
+        {
+            real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), "a point on the plane")
+                .unitIs("voxels")
+                .isRequired("[30.0, 30.0, 10.0]"),
+            real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), "plane normal (need not be unit length)")
+                .rangeShown("each [-10⁶, 10⁶], non-zero"),
+            real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), "slab thickness across the plane")
+                .unitIs("voxels"),
+            real("porosity", &PlaneFeature::porosity, rng(0, 1),
+                 "porosity inside the slab (the larger of this and the rock's)"),
+            real("extent", &PlaneFeature::extent, rng(0, 1e6), "in-plane radius around `point`; 0 = unbounded")
+                .unitIs("voxels"),
+            choice("kind", &PlaneFeature::kind, {{"bedding", int(PK::kBedding)}, {"fracture", int(PK::kFracture)}},
+                   "both set the fracture flag; the name is kept in the report"),
+        }));
+    plane.prose = "A slab of raised porosity around a plane of any orientation. At most 1024 planes.";
+
+    ParamSection& channel = r.emplace_back(tableArray(
+        "rock.channel", &Scenario::channels, 1024, "known conduits and synthetic protochannels",
+        {
+            real3List("points", &ChannelFeature::points, rng(-1, 1, "[]", true), "polyline")
+                .unitIs("voxels")
+                .isRequired("[[10.0, 30.0, 10.0], [50.0, 30.0, 10.0]]")
+                .items(2, 0)
+                .shape("an array of at least 2 points [x, y, z]")
+                .rangeShown("≥ 2 points, within ±4 × the largest domain size"),
+            real("radius", &ChannelFeature::radius, rng(0, 1e6),
+                 "voxels whose centre lies within this distance are inside (at least the voxels the line passes "
+                 "through)")
+                .unitIs("voxels"),
+            real("porosity", &ChannelFeature::porosity, rng(0, 1), "porosity inside"),
+            boolean("protochannel", &ChannelFeature::protochannel,
+                    "flag the voxels as protochannel, so stage 2 treats them as channel for the pressure rule "
+                    "(stage-2-only runs, paper Figures 8 and 9)"),
+        }));
+    channel.prose = "At most 1024 channels with at most 65 536 points together.";
+
+    ParamSection& source = r.emplace_back(tableArray(
+        "source", &Scenario::sources, 256, "",
+        {
+            voxelBox("at", &SourceSpec::box, false, "one voxel (give `at` or `box`)")
+                .unitIs("voxels")
+                .isRequired("[30, 30, 19]")
+                .defaultShown("*required* (or `box`)")
+                .rangeShown("inside the domain"),
+            voxelBox("box", &SourceSpec::box, true, "inclusive voxel indices of a box (give `at` or `box`)")
+                .unitIs("voxels")
+                .rangeShown("inside the domain, x0 ≤ x1, y0 ≤ y1, z0 ≤ z1"),
+            real("pressure", &SourceSpec::pressure, rng(0, 1e6, "(]"),
+                 "stage 1: zone front speed; stage 2: pressure cap and refill level (relative to the strongest source)")
+                .unitIs("relative"),
+        }));
+    source.prose =
+        "Give either `at = [x, y, z]` (one voxel) or `box = [[x0, y0, z0], [x1, y1, z1]]` (inclusive voxel\n"
+        "indices). Every source and sink must lie inside the domain; a source may not overlap a sink.";
+    source.notes =
+        "At least one source is required when a stage is enabled; stage 2 requires at least one sink.\n"
+        "At most 256 `[[source]]` and 256 `[[sink]]` entries (each may be a box of many voxels): stage 1\n"
+        "marches one zone front per source over the whole grid.";
+    source.params[0].required = false;  // `at` or `box`: the parser checks that one is given
+    source.limitReason = "one [[source]] may be a box of many voxels";
+    source.setLine = [](void* r, int line) { static_cast<SourceSpec*>(r)->line = line; };
+
+    ParamSection& sink = r.emplace_back(
+        tableArray("sink", &Scenario::sinks, 256, "",
+                   {
+                       voxelBox("at", &SinkSpec::box, false, "one voxel (give `at` or `box`)")
+                           .unitIs("voxels")
+                           .isRequired("[30, 30, 0]")
+                           .defaultShown("*required* (or `box`)")
+                           .rangeShown("inside the domain"),
+                       voxelBox("box", &SinkSpec::box, true, "inclusive voxel indices of a box (give `at` or `box`)")
+                           .unitIs("voxels")
+                           .rangeShown("inside the domain, x0 ≤ x1, y0 ≤ y1, z0 ≤ z1"),
+                   }));
+    sink.params[0].required = false;
+    sink.limitReason = "one [[sink]] may be a box of many voxels";
+    sink.setLine = [](void* r, int line) { static_cast<SinkSpec*>(r)->line = line; };
+
+    const std::vector<ParamChoice> faces{{"-x", int(GF::kMinusX)}, {"+x", int(GF::kPlusX)},  {"-y", int(GF::kMinusY)},
+                                         {"+y", int(GF::kPlusY)},  {"-z", int(GF::kMinusZ)}, {"+z", int(GF::kPlusZ)}};
+    ParamSection& s1 = r.emplace_back(table<Stage1Options>(
+        "stage1", stage1, "protochannels (paper §3.1)",
+        {
+            boolean("enabled", &Stage1Options::enabled, "run stage 1"),
+            choice("protosinks", &Stage1Options::protosinks,
+                   {{"boundary", int(PM::kBoundary)}, {"clustered", int(PM::kClustered)}},
+                   "every zone-boundary voxel drains (isotropic growth), or `clusters` clusters (growth in preferred "
+                   "directions)"),
+            integer("clusters", &Stage1Options::clusters, rng(1, 64),
+                    "number of protosink clusters per zone when clustered; centres drawn from `seed`, spread out (best "
+                    "of 16 random draws each)"),
+            real("cluster_radius", &Stage1Options::clusterRadius, rng(0, 1e6),
+                 "radius of one protosink cluster: the boundary voxels within this distance of its centre")
+                .unitIs("voxels"),
+            real3List("aim", &Stage1Options::aim, rng(-1, 1, "[]", true),
+                      "optional: one cluster per point, centred on the zone's boundary voxel nearest to it (`clusters` "
+                      "is then not used)")
+                .unitIs("voxels")
+                .items(0, 1024)
+                .shape("an array of points [x, y, z]")
+                .rangeShown("at most 1024 points, within ±4 × the largest domain size"),
+            choice("permeability", &Stage1Options::permeability,
+                   {{"uniform", int(ZS::kUniform)}, {"porosity", int(ZS::kPorosity)}},
+                   "zone front speed: the source's pressure, or pressure × R / R̄ (local porosity over the block's "
+                   "mean; rock of porosity 0 is never entered)"),
+            real("protochannel_porosity", &Stage1Options::protochannelPorosity, rng(0, 1),
+                 "porosity shown along protochannels after stage 1 (display erosion, never lowered; reset by the "
+                 "interim step)"),
+            real("capacity_exponent", &Stage1Options::capacityExponent, rng(0, 8, "(]"),
+                 "flow-network edge capacity = (smaller porosity of the two voxels)^exponent; its resistance is 1 / "
+                 "capacity"),
+            integer("max_graph_voxels", &Stage1Options::maxGraphVoxels, rng(1, 1e9),
+                    "a larger zone is refused with an error before any network is built (a network needs about 450 "
+                    "bytes per voxel)")
+                .unitIs("voxels"),
+            choiceList("boundary_faces", &Stage1Options::boundaryFaces, faces, "grid faces",
+                       "faces of the block that count as zone boundary (protosinks there), besides the boundaries "
+                       "between zones. The default leaves out the top, the recharge side the sources are fed from. The "
+                       "±y faces of a 2D section (`ny = 1`) never count")
+                .rangeShown(
+                    "distinct values out of `\"-x\"`, `\"+x\"`, `\"-y\"`, `\"+y\"`, `\"-z\"`, `\"+z\"`; may be empty"),
+            real("protosink_share", &Stage1Options::protosinkShare, rng(0, 1, "(]"),
+                 "the protosinks of a zone drain together this fraction of what the source's links can carry, each in "
+                 "proportion to its porosity; below 1 every protosink the rock can reach is fed, so growth is "
+                 "isotropic"),
+            real("branch_flow", &Stage1Options::branchFlow, rng(0, 1),
+                 "a voxel becomes protochannel only if at least this fraction of its zone's flow passes through it: "
+                 "smaller values give more, longer branches reaching closer to the zone boundary; 0 marks every traced "
+                 "path"),
+            real("resistance_noise", &Stage1Options::resistanceNoise, rng(0, 1),
+                 "random relative variation of link resistance (sub-voxel heterogeneity, from `seed`); it breaks the "
+                 "ties between the equally short staircase paths of the voxel grid, which otherwise run along the grid "
+                 "axes. 0 = none"),
+        }));
+    s1.prose =
+        "Stage 1 divides the block into pressure zones (one per source, by fast marching), solves a flow\n"
+        "network in every zone and traces protochannels from the zone boundary back to the source; the\n"
+        "model and every rule are described in `src/sim/stage1.h` and `src/flownet/*.h`.";
+
+    r.push_back(table<Stage2Options>(
+        "stage2", stage2, "growth and linkage (paper §3.2)",
+        {
+            boolean("enabled", &Stage2Options::enabled, "run the interim step and stage 2"),
+            integer("iterations", &Stage2Options::iterations, rng(0, 1e6),
+                    "iterations of pressure → transport → blending → erosion"),
+            real("p_rate", &Stage2Options::pRate, rng(0, 1e6, "(]"), "pressure rise per voxel of rock (`P_rate`)")
+                .unitIs("pressure / voxel"),
+            real("p_rate_channel", &Stage2Options::pRateChannel, rng(0, 1e6, "(]"),
+                 "pressure rise per voxel of channel (`P_rate^channel`); at most `p_rate`")
+                .unitIs("pressure / voxel"),
+            real("w0", &Stage2Options::w0, rng(0, 10), "erosion factor of Eq. 1"),
+            real("wa", &Stage2Options::wa, rng(0, 100), "blending factor of Eq. 2"),
+            real("m", &Stage2Options::m, rng(0, 4, "(]"), "erosion exponent of Eq. 1"),
+            real("pressure_scale", &Stage2Options::pressureScale, rng(0, 1e9),
+                 "stage-2 pressure of a source = its `pressure` × this; 0 = automatic, 2 · `p_rate` · (nx + ny + nz), "
+                 "far above anything the front reaches, so the cap never flattens the field where channels grow")
+                .unitIs("pressure")
+                .defaultShown("0 (auto)"),
+            real(
+                "channel_threshold", &Stage2Options::channelThreshold, rng(0, 1, "(]"),
+                "an eroded voxel whose porosity reaches this becomes channel (the cave) and takes the channel pressure "
+                "rate"),
+            real("protochannel_porosity", &Stage2Options::protochannelPorosity, rng(0, 1),
+                 "interim step: porosity of protochannel voxels (never lowered below their own)"),
+            real(
+                "source_porosity", &Stage2Options::sourcePorosity, rng(0, 1, "(]"),
+                "capacity of a source voxel = water injected per iteration at most: the discharge, and so how wide the "
+                "channels grow (the Figure 10 cave: W = 3.5 m at 0.1, 4.9 m at 0.3, 6.1 m at 1.0)"),
+            choice(
+                "weight", &Stage2Options::weight,
+                {{"proportional", int(TW::kProportional)}, {"uniform", int(TW::kUniform)}},
+                "Listing 1's weight(ΔP): shares proportional to the pressure drop per unit distance, or equal shares"),
+            choice(
+                "blending", &Stage2Options::blending, {{"max", int(FB::kMax)}, {"split", int(FB::kSplit)}},
+                "flow blending of Eq. 2: `f_a` of a voxel is the largest `f_c` among its lower-pressure neighbours (a "
+                "wall feels the flow of the channel beside it), or the sum of the shares of `f_c` that each lower "
+                "neighbour splits equally over its higher-pressure neighbours"),
+            intList("snapshots", &Stage2Options::snapshots, rng(0, 1e6),
+                    "iterations after which a picture of the state is written (`images/iter_NNNN.png`, combined in "
+                    "`images/sequence.png`: up to 6 frames a row, at most 8192 pixels wide)")
+                .unitIs("iterations")
+                .items(0, 32)
+                .shape("an array of iteration numbers")
+                .rangeShown("at most 32 entries, 0–10⁶ each"),
+        }));
+
+    r.push_back(table<OutputOptions>(
+        "output", output, "",
+        {
+            choice("mesh_style", &OutputOptions::meshStyle, {{"smooth", int(MS::kSmooth)}, {"voxel", int(MS::kVoxel)}},
+                   "`voxel` also writes the blocky mesh of cave voxels (`cave_voxels.obj`); `cavesim run --mesh-style` "
+                   "overrides"),
+            integer("image_width", &OutputOptions::imageWidth, rng(256, 8192), "width of the pictures")
+                .unitIs("pixels"),
+            boolean("images", &OutputOptions::images, "write `images/*.png`"),
+            boolean("mesh", &OutputOptions::mesh, "write `cave.obj` and `cave.ply`"),
+            choice(
+                "cave", &OutputOptions::cave,
+                {{"channels", int(CE::kChannels)}, {"with_protochannels", int(CE::kWithProtochannels)}},
+                "which voxels are the cave that is meshed, drawn and measured: the stage-2 channels, or the channels "
+                "and the stage-1 protochannels as 1-voxel side passages (the paper's Figures 10–12 show both kinds; "
+                "`docs/reproduction.md` gives Table 4 both ways). Does not change the simulation"),
+        }));
+    return r;
+}
+
+}  // namespace
+
+const Param& ParamSection::param(const std::string& k) const {
+    for (const Param& p : params)
+        if (p.key == k) return p;
+    throw RuntimeError("parameter registry: no key '" + k + "' in section '" + path + "'");
+}
+
+std::string ParamSection::header() const {
+    return isArray ? "[[" + path + "]]" : "[" + path + "]";
+}
+
+std::string ParamSection::qualified(const std::string& k) const {
+    return path.empty() ? k : path + "." + k;
+}
+
+const std::vector<ParamSection>& scenarioParameters() {
+    static const std::vector<ParamSection> registry = makeRegistry();
+    return registry;
+}
+
+const ParamSection& paramSection(const std::string& path) {
+    for (const ParamSection& s : scenarioParameters())
+        if (s.path == path) return s;
+    throw RuntimeError("parameter registry: no section '" + path + "'");
+}
+
+std::pair<const ParamSection*, const Param*> findParam(const Scenario& scenario, const void* field) {
+    for (const ParamSection& s : scenarioParameters())
+        for (std::size_t i = 0; i < s.count(scenario); ++i)
+            for (const Param& p : s.params)
+                if (p.address(s.record(scenario, i)) == field) return {&s, &p};
+    throw RuntimeError("parameter registry: not a registered field");
+}
+
+namespace {
+
+std::string shortest(double v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
+std::string realText(double v) {
+    std::string t = shortest(v);
+    if (t.find_first_of(".eEni") == std::string::npos) t += ".0";
+    return t;
+}
+
+template <typename T, typename F>
+std::string listText(const std::vector<T>& v, F each) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + each(v[i]);
+    return out + "]";
+}
+
+/// A number for the reference: 10⁶ rather than 1000000.
+std::string docNumber(double v) {
+    static const char* kSup[] = {"⁰", "¹", "²", "³", "⁴", "⁵", "⁶", "⁷", "⁸", "⁹"};
+    const double a = std::fabs(v);
+    if (a >= 1e4) {
+        const int e = int(std::lround(std::log10(a)));
+        if (e < 10 && std::pow(10.0, e) == a) return std::string(v < 0 ? "-" : "") + "10" + kSup[e];
+    }
+    return shortest(v);
+}
+
+std::string typeText(const Param& p) {
+    switch (p.type) {
+        case ParamType::kBool:
+            return "bool";
+        case ParamType::kInt:
+            return "integer";
+        case ParamType::kReal:
+            return "float";
+        case ParamType::kString:
+        case ParamType::kChoice:
+            return "string";
+        case ParamType::kInt3:
+            return "[int, int, int]";
+        case ParamType::kReal3:
+            return "[float ×3]";
+        case ParamType::kReal3List:
+            return "[[float ×3], …]";
+        case ParamType::kChoiceList:
+            return "[string, …]";
+        case ParamType::kIntList:
+            return "[int, …]";
+        case ParamType::kVoxel:
+            return "[int ×3]";
+        case ParamType::kVoxelBox:
+            return "[[int ×3], [int ×3]]";
+    }
+    return "?";
+}
+
+std::string choicesText(const Param& p) {
+    std::string out;
+    for (const auto& c : p.choices) out += (out.empty() ? "`\"" : ", `\"") + std::string(c.name) + "\"`";
+    return out;
+}
+
+std::string rangeText(const Param& p);
+
+}  // namespace
+
+std::string paramRangeText(const Param& p) {
+    return rangeText(p);
+}
+
+namespace {
+
+std::string rangeText(const Param& p) {
+    if (!p.rangeText.empty()) return p.rangeText;
+    const ParamRange& r = p.range;
+    switch (p.type) {
+        case ParamType::kBool:
+            return "–";
+        case ParamType::kChoice:
+            return choicesText(p);
+        case ParamType::kInt:
+        case ParamType::kInt3:
+        case ParamType::kIntList:
+            return (p.type == ParamType::kInt ? "" : "each ") + docNumber(r.lo) + "–" + docNumber(r.hi);
+        default:
+            if (r.domainScaled) return "within ±4 × the largest domain size";
+            return std::string(p.type == ParamType::kReal ? "" : "each ") + (r.loOpen ? "(" : "[") + docNumber(r.lo) +
+                   ", " + docNumber(r.hi) + (r.hiOpen ? ")" : "]");
+    }
+}
+
+std::string defaultText(const ParamSection& s, const Param& p) {
+    if (!p.defaultText.empty()) return p.defaultText;
+    if (p.required) return "*required*";
+    if (p.type == ParamType::kVoxelBox) return "–";
+    const std::string v = paramValueText(p.get(s.defaults()));
+    return v.find('"') == std::string::npos ? v : "`" + v + "`";
+}
+
+std::string sectionTitle(const ParamSection& s) {
+    if (s.path.empty()) return "## " + s.heading;
+    const bool nested = s.path.find('.') != std::string::npos;
+    return std::string(nested ? "### `" : "## `") + s.header() + "`" + (s.heading.empty() ? "" : " — " + s.heading);
+}
+
+}  // namespace
+
+std::string paramValueText(const ParamValue& v) {
+    struct Visitor {
+        std::string operator()(bool b) const { return b ? "true" : "false"; }
+        std::string operator()(std::int64_t i) const { return std::to_string(i); }
+        std::string operator()(double d) const { return realText(d); }
+        std::string operator()(const std::string& s) const { return "\"" + s + "\""; }
+        std::string operator()(const std::vector<std::int64_t>& a) const {
+            if (a.size() == 6)
+                return "[" + (*this)(std::vector<std::int64_t>(a.begin(), a.begin() + 3)) + ", " +
+                       (*this)(std::vector<std::int64_t>(a.begin() + 3, a.end())) + "]";
+            return listText(a, [](std::int64_t i) { return std::to_string(i); });
+        }
+        std::string operator()(const std::vector<double>& a) const { return listText(a, realText); }
+        std::string operator()(const std::vector<std::string>& a) const {
+            return listText(a, [](const std::string& s) { return "\"" + s + "\""; });
+        }
+        std::string operator()(const std::vector<Vec3d>& a) const {
+            return listText(a,
+                            [](const Vec3d& p) { return listText(std::vector<double>(p.begin(), p.end()), realText); });
+        }
+    };
+    return std::visit(Visitor{}, v);
+}
+
+std::string scenarioReferenceMarkdown() {
+    std::ostringstream md;
+    const auto& reg = scenarioParameters();
+    md << "# Scenario file format\n\n" << reg.front().prose << "\n";
+    for (const ParamSection& s : reg) {
+        md << "\n" << sectionTitle(s) << "\n\n";
+        if (!s.path.empty() && !s.prose.empty()) md << s.prose << "\n\n";
+        md << "| key | type | default | unit | range | meaning |\n|---|---|---|---|---|---|\n";
+        for (const Param& p : s.params)
+            md << "| `" << p.key << "` | " << typeText(p) << " | " << defaultText(s, p) << " | " << p.unit << " | "
+               << rangeText(p) << " | " << p.description << " |\n";
+        if (!s.notes.empty()) md << "\n" << s.notes << "\n";
+    }
+    return md.str();
+}
+
+std::string exampleScenarioToml() {
+    std::ostringstream out;
+    out << "# A complete scenario: every key at its default (`cavesim reference --example`).\n"
+           "# Each comment gives the meaning, the unit and the allowed range; docs/scenario-format.md has more.\n";
+    for (const ParamSection& s : scenarioParameters()) {
+        out << "\n";
+        if (!s.path.empty()) out << s.header() << (s.isArray ? "  # one entry of possibly many" : "") << "\n";
+        for (const Param& p : s.params) {
+            out << "# " << p.description << " (unit: " << p.unit << "; range: " << rangeText(p) << ")\n";
+            if (p.type == ParamType::kVoxelBox) {
+                out << "# " << p.key << " = [[0, 0, 0], [1, 1, 1]]\n";
+                continue;
+            }
+            out << p.key << " = " << (p.example.empty() ? paramValueText(p.get(s.defaults())) : p.example) << "\n";
+        }
+    }
+    return out.str();
+}
+
+std::string parameterTableMarkdown(const Scenario& scenario) {
+    std::ostringstream md;
+    md << "| key | value |\n|---|---|\n";
+    for (const ParamSection& s : scenarioParameters()) {
+        if (s.isArray) continue;
+        for (const Param& p : s.params) {
+            const ParamValue v = p.get(s.record(scenario, 0));
+            const ParamValue d = p.get(s.defaults());
+            md << "| `" << s.qualified(p.key) << "` | ";
+            if (v == d)
+                md << paramValueText(v);
+            else
+                md << "**" << paramValueText(v) << "** (default " << paramValueText(d) << ")";
+            md << " |\n";
+        }
+    }
+    return md.str();
+}
+
+}  // namespace cavesim
