@@ -28,7 +28,7 @@ void validateScenario(const Scenario& scenario);
 /// The effective scenario as TOML, every default filled in; parses back to an equal scenario.
 std::string scenarioToToml(const Scenario& scenario);
 
-/// The dotted key ("stage1.max_graph_voxels") of the field at address `field` inside `scenario`,
+/// The dotted scenario key of the field at address `field` inside `scenario`,
 /// from the parameter registry, for messages that point at a key.
 /// @throw InternalError if `field` is not a registered field of `scenario`
 std::string scenarioKey(const Scenario& scenario, const void* field);

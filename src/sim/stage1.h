@@ -11,22 +11,22 @@
 ///     sphere (paper Figure 5).
 ///  2. **Flow network per zone** (src/flownet/flow_network.h): the zone's voxels except sinks
 ///     (inactive in stage 1) are nodes; face-neighbour pairs are edges of capacity
-///     min(R_a, R_b)^capacity_exponent and resistance 1/capacity × (1 + resistance_noise · u),
+///     min(R_a, R_b)^capacityExponent and resistance 1/capacity × (1 + resistanceNoise · u),
 ///     u a seeded hash of the pair. The super-source feeds the source voxels without limit.
 ///     **Protosinks** drain to the super-sink: with `protosinks = "boundary"` every voxel of the
 ///     zone's boundary — voxels with a face neighbour in another zone, and voxels on the grid
-///     faces listed in `boundary_faces` (default all but the top) — with `"clustered"` only the
-///     boundary voxels within `cluster_radius` of `clusters` centres drawn from the seed, or of
+///     faces listed in `boundaryFaces` (default all but the top) — with `"clustered"` only the
+///     boundary voxels within `clusterRadius` of `clusters` centres drawn from the seed, or of
 ///     the boundary voxels nearest the `aim` points (then the rest of the boundary is left out of
 ///     the network, so no channel runs along the zone's edge). Each protosink drains at most its
-///     share of `protosink_share` × the source capacity (in proportion to its porosity): the
+///     share of `protosinkShare` × the source capacity (in proportion to its porosity): the
 ///     paper's "idealized small-flow gradient", the same all over the boundary.
 ///  3. **Max flow** (src/flownet/max_flow.h): the maximum flow of least total resistance, by
 ///     primal–dual phases of Dijkstra + Boost.Graph's Boykov–Kolmogorov max flow; flow cycles
 ///     are then cancelled. The file comment there says why a plain max flow is not enough.
 ///  4. **Protochannels** (src/flownet/protochannels.h): from the protosinks that receive flow,
 ///     strongest first, walk upstream along the in-arc of largest flow until a source voxel or
-///     the tree is reached or touched; only voxels carrying at least `branch_flow` of the zone's
+///     the tree is reached or touched; only voxels carrying at least `branchFlow` of the zone's
 ///     flow are marked. The result is a tree of 1-voxel channels rooted at the source that
 ///     branches outward. Traced voxels get the kProtochannel flag and porosity
 ///     max(R, protochannel_porosity) (the paper's display erosion; porosity0 keeps the initial

@@ -3,7 +3,7 @@
 ///
 /// One iteration:
 ///  1. **Pressure front** (the "avalanche"): sinks hold P = 0; pressure rises by at most
-///     `p_rate` per voxel of rock and `p_rate_channel` per voxel of channel, capped at the source
+///     `pRate` per voxel of rock and `pRateChannel` per voxel of channel, capped at the source
 ///     pressure. Solved by fast marching from the sinks; afterwards only decreases are propagated
 ///     from voxels whose rate fell (erosion only lowers rates, so pressure only drops).
 ///  2. **Water transport** (Listing 1, 26 neighbours): each voxel offers water to lower-pressure
@@ -17,7 +17,7 @@
 ///     the largest of them (`FlowBlending::kMax`, the default), or the sum of the shares each
 ///     passes, f_c split equally over its uphill neighbours (`kSplit`); f = w_a·f_a + f_c.
 ///  4. **Erosion** (Eq. 1): R += min(w_0·f^m, 1 − R); capacity follows R.
-///  5. **Bookkeeping**: a voxel eroded to `channel_threshold` becomes channel (and takes the
+///  5. **Bookkeeping**: a voxel eroded to `channelThreshold` becomes channel (and takes the
 ///     channel pressure rate); breakthrough = the first iteration a channel joins a source to a sink.
 ///
 /// The steps are named functions in sim/stage2_steps.h, each tested against hand-computed numbers.
