@@ -1,7 +1,6 @@
 # All dependencies come from Debian 12 packages (scripts/setup.sh installs them).
 # Order matters: TBB's config first, else OpenVDB's FindTBB defines TBB::tbb itself.
 find_package(TBB 2021 CONFIG REQUIRED)
-find_package(Eigen3 3.4 CONFIG REQUIRED)
 find_package(Boost 1.74 CONFIG REQUIRED)
 find_package(OpenMesh CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)

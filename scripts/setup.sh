@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(cmake g++ ninja-build ccache pkg-config python3
-  libopenvdb-dev libboost-iostreams-dev libopenmesh-dev libboost-graph-dev libeigen3-dev
+  libopenvdb-dev libboost-iostreams-dev libopenmesh-dev libboost-graph-dev
   libtbb-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   libpng-dev libtinygltf-dev)
 

@@ -13,6 +13,7 @@
 #include "app/pipeline.h"
 #include "app/report.h"
 #include "core/error.h"
+#include "morpho/reference_ranges.h"
 #include "sim/parameters.h"
 #include "sim/scenario_io.h"
 
@@ -200,10 +201,22 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
             md << "\n";
         }
     };
+    // The published ranges as text, from their one copy in morpho/reference_ranges.h.
+    const auto rangeList = [](const char* category, int table, std::initializer_list<const char*> keys) {
+        std::string out;
+        for (const char* k : keys) {
+            const morpho::ReferenceRange* r = morpho::findReferenceRange(k, category, table);
+            if (!r) continue;
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "%s%s %g–%g", out.empty() ? "" : ", ", r->meaning, r->low, r->high);
+            out += buf;
+        }
+        return out;
+    };
     md << "## Table 4: morphometric indices\n\nOurs: convex-hull field (rectangular field in parentheses); the "
-          "paper's values from its Table 4. Confined ranges (paper Table 2): density 0.049–0.406 m/m², coverage "
-          "13.56–58.51 %, porosity 1.1–12 %, W 0.65–4.53 m.\n\n"
-          "The cave as the stage-2 channels (the default, `"
+          "paper's values from its Table 4. Confined ranges (paper Table 2): "
+       << rangeList("confined", 2, {"network_density_opt", "areal_coverage_pct_opt", "porosity_pct_opt", "mean_width_m"})
+       << ".\n\nThe cave as the stage-2 channels (the default, `"
        << caveSetting(CaveExtent::kChannels) << "`):\n\n";
     table4(reports);
     md << "\nThe same runs with the stage-1 protochannels as side passages (`"
@@ -216,9 +229,9 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         for (const auto& [n2, r2] : withProto)
             if (n == n2)
                 md << n << " " << fmt(get(r, {"cave_category"})) << "; " << fmt(get(r2, {"cave_category"})) << ". ";
-    md << "\n\n## Network metrics (Collon et al. 2017)\n\nReal caves (34 networks): h_or 0.75–1.00, len_mean "
-          "8.46–331.74 m, cv_len 0.90–2.56, h_len 0.07–0.67, k_mean 1.75–2.57, r_k −0.56 – −0.15, spl "
-          "2.32–55.72, cpd 0.02–0.57, tortuosity 1.12–1.54.\n\n| scenario | h_or | len_mean_m | cv_len | h_len | "
+    md << "\n\n## Network metrics (Collon et al. 2017)\n\nReal caves (34 networks): "
+       << rangeList("real caves", 0, {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"})
+       << ".\n\n| scenario | h_or | len_mean_m | cv_len | h_len | "
           "k_mean | r_k | spl | cpd | tortuosity |\n|---|---|---|---|---|---|---|---|---|---|\n";
     auto metricsRow = [&](const std::string& label, const nlohmann::json& r) {
         md << "| " << label << " |";
