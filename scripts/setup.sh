@@ -9,17 +9,8 @@ PACKAGES=(cmake g++ ninja-build ccache pkg-config python3
   libtbb-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   libpng-dev libtinygltf-dev)
 
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  echo "setup: installing ${missing[*]}" >&2
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
-fi
+. scripts/install_packages.sh
+install_packages setup "${PACKAGES[@]}"
 
 BUILD_DIR=${CAVESIM_BUILD_DIR:-build}
 if [ ! -f "$BUILD_DIR/build.ninja" ]; then
