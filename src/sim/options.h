@@ -3,10 +3,12 @@
 /// outputs: one plain struct per algorithm, choices as `enum class`.
 ///
 /// A stage takes its own options struct plus explicit inputs (the domain's fields and terminals,
-/// the `Rng`), never the whole scenario. Every field is one scenario key; the key, its type, default,
-/// unit, range and description are declared once, in the parameter registry (src/sim/scenario_io.cpp),
-/// from which the parser, the effective-scenario writer, the report's parameter table and
-/// docs/scenario-format.md are all made. The defaults here are the registry's defaults.
+/// the `Rng`), never the whole scenario. Every field is one scenario key; the key, its type, unit,
+/// allowed range and description are declared once, in the parameter registry (src/sim/parameters.h,
+/// entries in parameters.cpp), from which the parser, the effective-scenario writer, the report's
+/// parameter table and docs/scenario-format.md are all made. A key's default is the in-class
+/// initialiser here (the registry reads it from a default-constructed struct); the comments give
+/// meaning and unit, the allowed ranges are in the registry only.
 #pragma once
 
 #include <array>
@@ -60,38 +62,38 @@ enum class MeshStyle : std::uint8_t {
 struct Stage1Options {
     bool enabled = true;
     ProtosinkMode protosinks = ProtosinkMode::kBoundary;
-    int clusters = 3;                ///< clusters when clustered, [1, 64]
-    double clusterRadius = 2.0;      ///< voxels, radius of one protosink cluster, [0, 1e6]
-    std::vector<Vec3d> aim;          ///< voxels: cluster centres nearest these points (optional)
+    int clusters = 3;            ///< clusters when clustered
+    double clusterRadius = 2.0;  ///< voxels, radius of one protosink cluster
+    std::vector<Vec3d> aim;      ///< voxels: cluster centres nearest these points (optional)
     ZoneSpeed permeability = ZoneSpeed::kPorosity;
-    double protochannelPorosity = 0.35;  ///< porosity shown along protochannels after stage 1, [0, 1]
-    double capacityExponent = 1.0;       ///< edge capacity = min(porosity)^exponent, (0, 8]
-    long maxGraphVoxels = 4000000;       ///< zones larger than this are refused (memory), [1, 1e9]
+    double protochannelPorosity = 0.35;  ///< porosity shown along protochannels after stage 1
+    double capacityExponent = 1.0;       ///< edge capacity = min(porosity)^exponent
+    long maxGraphVoxels = 4000000;       ///< zones larger than this are refused (memory)
     /// Grid faces that count as zone boundary (protosinks there), each at most once, in the order
     /// given; empty = only the boundaries between zones. Default: all but the top (+z), the
     /// recharge side from which the sources are fed.
     std::vector<GridFace> boundaryFaces{GridFace::kMinusX, GridFace::kPlusX, GridFace::kMinusY, GridFace::kPlusY,
                                         GridFace::kMinusZ};
-    double protosinkShare = 0.5;   ///< total protosink drain / source capacity, (0, 1]
-    double branchFlow = 0.02;      ///< least fraction of a zone's flow through a protochannel voxel, [0, 1]
-    double resistanceNoise = 0.5;  ///< relative random variation of link resistance, [0, 1]
+    double protosinkShare = 0.5;   ///< total protosink drain / source capacity
+    double branchFlow = 0.02;      ///< least fraction of a zone's flow through a protochannel voxel
+    double resistanceNoise = 0.5;  ///< relative random variation of link resistance
 };
 
 /// Stage 2 (stage2.h): pressure front, water transport, blending, erosion.
 struct Stage2Options {
     bool enabled = true;
-    int iterations = 240;          ///< [0, 1000000]
-    double pRate = 0.50;           ///< pressure rise per voxel of rock, (0, 1e6]
-    double pRateChannel = 0.001;   ///< pressure rise per voxel of channel, (0, pRate]
-    double w0 = 0.15;              ///< erosion factor (Eq. 1), [0, 10]
-    double wa = 0.25;              ///< blending factor (Eq. 2), [0, 100]
-    double m = 1.0;                ///< erosion exponent (Eq. 1), (0, 4]
+    int iterations = 240;         ///< iterations of pressure, transport, blending, erosion
+    double pRate = 0.50;          ///< pressure rise per voxel of rock
+    double pRateChannel = 0.001;  ///< pressure rise per voxel of channel
+    double w0 = 0.15;             ///< erosion factor (Eq. 1)
+    double wa = 0.25;             ///< blending factor (Eq. 2)
+    double m = 1.0;               ///< erosion exponent (Eq. 1)
     /// Stage-2 pressure of a source = its `pressure` × this; 0 = automatic:
     /// 2 · pRate · (nx + ny + nz), well above anything the front reaches. [0, 1e9]
     double pressureScale = 0.0;
-    double channelThreshold = 0.5;      ///< porosity at which an eroded voxel becomes channel, (0, 1]
-    double protochannelPorosity = 0.25; ///< porosity of protochannel voxels at the interim step, [0, 1]
-    double sourcePorosity = 0.1;        ///< porosity (= water injected per iteration at most) of sources, (0, 1]
+    double channelThreshold = 0.5;       ///< porosity at which an eroded voxel becomes channel
+    double protochannelPorosity = 0.25;  ///< porosity of protochannel voxels at the interim step
+    double sourcePorosity = 0.1;         ///< porosity (= water injected per iteration at most) of sources
     TransportWeight weight = TransportWeight::kProportional;
     FlowBlending blending = FlowBlending::kMax;
     std::vector<int> snapshots;  ///< iterations at which pictures are taken, at most 32
@@ -100,7 +102,7 @@ struct Stage2Options {
 /// What a run writes besides the grids.
 struct OutputOptions {
     MeshStyle meshStyle = MeshStyle::kSmooth;
-    int imageWidth = 1024;  ///< pixels, [256, 8192]
+    int imageWidth = 1024;  ///< pixels
     bool images = true;
     bool mesh = true;
     CaveExtent cave = CaveExtent::kChannels;

@@ -1,10 +1,10 @@
 /// @file scenario.h
 /// @brief The scenario: everything a run needs, as a plain validated struct.
 ///
-/// Parsed from TOML by `parseScenarioFile` (scenario_io.cpp); every field is one key of the
-/// parameter registry there, with its default, unit and range (docs/scenario-format.md is made
-/// from it). Positions and sizes are
-/// in voxel (index) units unless a field says metres.
+/// Parsed from TOML by `parseScenarioFile` (scenario_io.h); every field is one key of the parameter
+/// registry (parameters.h), which holds its default, unit and allowed range (docs/scenario-format.md
+/// is made from it; the comments here give meaning and unit only). Positions and sizes are in voxel
+/// (index) units unless a field says metres.
 #pragma once
 
 #include <array>
@@ -24,16 +24,16 @@ struct VoxelBox {
 };
 
 struct NoiseSettings {
-    double amplitude = 0.0;  ///< porosity added at most (±), [0, 1]
-    double scale = 8.0;      ///< feature size in voxels, [0.01, 1e6]
-    int octaves = 3;         ///< fractal octaves, [1, 8]
+    double amplitude = 0.0;  ///< porosity added at most (±)
+    double scale = 8.0;      ///< feature size in voxels
+    int octaves = 3;         ///< fractal octaves
 };
 
 /// A spherical obstacle: porosity falls from the rock value at the rim to `corePorosity` at the centre.
 struct SphereObstacle {
-    Vec3d center{0, 0, 0};       ///< voxel units
-    double radius = 1.0;         ///< voxel units, (0, 1e6]
-    double corePorosity = 0.005; ///< [0, 1]
+    Vec3d center{0, 0, 0};        ///< voxel units
+    double radius = 1.0;          ///< voxel units
+    double corePorosity = 0.005;  ///< porosity at the centre
 };
 
 /// What a plane feature stands for.
@@ -41,10 +41,10 @@ enum class PlaneKind : std::uint8_t { kBedding, kFracture };
 
 /// A bedding plane or fracture: a slab of raised porosity around a plane of any orientation.
 struct PlaneFeature {
-    Vec3d point{0, 0, 0};     ///< a point on the plane, voxel units
-    Vec3d normal{0, 0, 1};    ///< need not be unit; must be non-zero
-    double thickness = 1.0;   ///< slab thickness in voxels, (0, 1e6]
-    double porosity = 0.3;    ///< porosity inside the slab, [0, 1]
+    Vec3d point{0, 0, 0};    ///< a point on the plane, voxel units
+    Vec3d normal{0, 0, 1};   ///< need not be unit; must be non-zero
+    double thickness = 1.0;  ///< slab thickness in voxels
+    double porosity = 0.3;   ///< porosity inside the slab
     /// Optional in-plane extent: voxels farther than this from `point` (within the plane) are
     /// untouched; 0 means unbounded.
     double extent = 0.0;
@@ -54,16 +54,16 @@ struct PlaneFeature {
 /// A known conduit or synthetic protochannel: a polyline of raised porosity.
 struct ChannelFeature {
     std::vector<Vec3d> points;  ///< at least two, voxel units
-    double radius = 0.5;        ///< voxels, [0, 1e6]
-    double porosity = 0.4;      ///< [0, 1]
+    double radius = 0.5;        ///< voxels
+    double porosity = 0.4;      ///< porosity inside
     /// Treat the voxels as protochannel for the stage-2 pressure rule (stage-2-only runs).
     bool protochannel = true;
 };
 
 struct SourceSpec {
-    VoxelBox box;            ///< `at = [x,y,z]` gives a one-voxel box
-    double pressure = 1.0;   ///< relative pressure, (0, 1e6]
-    int line = 0;            ///< line in the scenario file (for messages)
+    VoxelBox box;           ///< `at = [x,y,z]` gives a one-voxel box
+    double pressure = 1.0;  ///< relative pressure
+    int line = 0;           ///< line in the scenario file (for messages)
 };
 
 struct SinkSpec {
@@ -74,10 +74,10 @@ struct SinkSpec {
 struct Scenario {
     std::string name = "scenario";
     std::uint64_t seed = 1;
-    std::array<int, 3> size{60, 60, 20};  ///< voxels nx, ny, nz; each [1, 1024]
-    double voxelSize = 1.0;               ///< metres, [1e-3, 1e4]
+    std::array<int, 3> size{60, 60, 20};  ///< voxels nx, ny, nz
+    double voxelSize = 1.0;               ///< metres
 
-    double rockPorosity = 0.05;  ///< [0, 1]
+    double rockPorosity = 0.05;  ///< background porosity
     NoiseSettings noise;
     std::vector<SphereObstacle> spheres;
     std::vector<PlaneFeature> planes;
