@@ -11,7 +11,6 @@
 namespace cavesim {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::int64_t kInt64Max = std::numeric_limits<std::int64_t>::max();
 
 /// A `Param` with setters for the optional fields, so an entry reads as one expression.

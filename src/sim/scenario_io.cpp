@@ -150,12 +150,6 @@ public:
         return table_.get(key);
     }
 
-    double number(const std::string& key, double def, double lo, double hi, bool loOpen = false, bool hiOpen = false) {
-        const toml::node* n = get(key);
-        if (!n) return def;
-        return toNumber(key, *n, lo, hi, loOpen, hiOpen);
-    }
-
     double toNumber(const std::string& key, const toml::node& n, double lo, double hi, bool loOpen, bool hiOpen) const {
         double v = 0;
         if (auto i = n.as_integer())
@@ -169,12 +163,6 @@ public:
         return v;
     }
 
-    long integer(const std::string& key, long def, long lo, long hi) {
-        const toml::node* n = get(key);
-        if (!n) return def;
-        return toInteger(key, *n, lo, hi);
-    }
-
     long toInteger(const std::string& key, const toml::node& n, long lo, long hi) const {
         auto i = n.as_integer();
         const std::string allowed =
@@ -183,23 +171,6 @@ public:
         const long v = long(i->get());
         if (v < lo || v > hi) fail(key, &n, allowed);
         return v;
-    }
-
-    bool boolean(const std::string& key, bool def) {
-        const toml::node* n = get(key);
-        if (!n) return def;
-        auto b = n->as_boolean();
-        if (!b) fail(key, n, "must be true or false");
-        return b->get();
-    }
-
-    Vec3d vec3(const std::string& key, const Vec3d& def, double lo, double hi, bool required = false) {
-        const toml::node* n = get(key);
-        if (!n) {
-            if (required) fail(key, nullptr, "is required: an array of 3 numbers");
-            return def;
-        }
-        return toVec3(key, *n, lo, hi);
     }
 
     Vec3d toVec3(const std::string& key, const toml::node& n, double lo, double hi) const {
@@ -329,10 +300,15 @@ struct ParseContext {
     std::size_t channelPoints = 0;  // all polylines together: the effective scenario rewrites each
 };
 
+/// The `box` entry of a source or sink section (the one after `at`).
+const Param& boxEntry(const ParamSection& section) {
+    return *std::find_if(section.params.begin(), section.params.end(),
+                         [](const Param& q) { return q.type == ParamType::kVoxelBox; });
+}
+
 /// `at` or `box` of a source or sink (entries `at`, then `box`, of `section`).
 VoxelBox readBox(TableReader& r, const ParamSection& section, const Param& atParam, const std::array<int, 3>& size) {
-    const Param& boxParam = *std::find_if(section.params.begin(), section.params.end(),
-                                          [](const Param& p) { return p.type == ParamType::kVoxelBox; });
+    const Param& boxParam = boxEntry(section);
     const std::string& atKey = atParam.key;
     const std::string& boxKey = boxParam.key;
     const std::string& what = section.path;
@@ -378,17 +354,10 @@ void readParam(TableReader& r, const ParamSection& section, const Param& p, void
     if (p.type == ParamType::kVoxelBox) return;  // read with `at`
     if (p.type == ParamType::kVoxel) {
         const VoxelBox b = readBox(r, section, p, ctx.s.size);
-        const ParamValue at = std::vector<std::int64_t>(b.lo.begin(), b.lo.end());
         std::vector<std::int64_t> corners(b.lo.begin(), b.lo.end());
+        if (b.lo == b.hi) return p.set(record, corners);
         corners.insert(corners.end(), b.hi.begin(), b.hi.end());
-        if (b.lo == b.hi)
-            p.set(record, at);
-        else
-            section
-                .param(std::find_if(section.params.begin(), section.params.end(),
-                                    [](const Param& q) { return q.type == ParamType::kVoxelBox; })
-                           ->key)
-                .set(record, ParamValue(corners));
+        boxEntry(section).set(record, corners);
         return;
     }
     const std::string& key = p.key;
