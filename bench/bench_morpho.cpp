@@ -17,8 +17,7 @@
 #include "morpho/skeleton.h"
 #include "sim/cave.h"
 #include "sim/scenario_io.h"
-#include "sim/stage1.h"
-#include "sim/stage2.h"
+#include "sim/simulate.h"
 
 namespace {
 
@@ -76,15 +75,7 @@ BENCHMARK(BM_SkeletonTubes)->Arg(4)->Arg(10)->Arg(20)->Unit(benchmark::kMillisec
 /// The Figure 10 cave, simulated once.
 const Mask& fig10Cave() {
     static const Mask mask = [] {
-        const Scenario s = defaultScenario();
-        Rng rng(s.seed);
-        Domain d = buildDomain(s, rng);
-        if (s.stage1.enabled) runStage1(d, s.stage1, rng);
-        if (s.stage2.enabled) {
-            prepareStage2(d, s.stage2);
-            runStage2(d, s.stage2);
-        }
-        return caveMask(d, CaveExtent::kChannels);
+        return caveMask(simulate(defaultScenario()), CaveExtent::kChannels);
     }();
     return mask;
 }

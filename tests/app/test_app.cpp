@@ -16,6 +16,7 @@
 #include "sim/cave.h"
 #include "sim/domain.h"
 #include "sim/scenario_io.h"
+#include "sim/simulate.h"
 #include "sim/stage1.h"
 #include "sim/stage2.h"
 
@@ -56,18 +57,6 @@ app::PipelineResult runInto(const Scenario& s, const fs::path& out, const app::P
     app::PipelineResult r = app::runPipeline(s, dir, o);
     dir.commit();
     return r;
-}
-
-/// The final domain of a scenario, simulated in memory exactly as the pipeline does.
-Domain simulate(const Scenario& s) {
-    Rng rng(s.seed);
-    Domain d = buildDomain(s, rng);
-    if (s.stage1.enabled) runStage1(d, s.stage1, rng);
-    if (s.stage2.enabled) {
-        prepareStage2(d, s.stage2);
-        runStage2(d, s.stage2);
-    }
-    return d;
 }
 
 }  // namespace
