@@ -61,7 +61,8 @@ double fullUpdate(const Dims& d, const Index3& p, const Get& get, double f, Sten
 /// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel
 /// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
 std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
-                  Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched) {
+                  Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched,
+                  std::vector<std::size_t>* touchedList = nullptr) {
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value[n]; };
     const bool diagonal = stencil == Stencil::kAvalanche26;
@@ -77,6 +78,7 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
             heap.push({u, r});
             if (touched && !(*touched)[r]) {
                 (*touched)[r] = 1;
+                if (touchedList) touchedList->push_back(r);
                 ++changes;
             }
         }
@@ -162,8 +164,12 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
 }
 
 std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed) {
+    // `touched_` stays allocated between calls and only the entries set here are cleared again, so
+    // the cost follows the voxels that change, not the grid.
     MinHeap heap;
-    std::vector<std::uint8_t> touched(dims_.count(), 0);
+    std::vector<std::uint8_t>& touched = touched_;
+    if (touched.size() != dims_.count()) touched.assign(dims_.count(), 0);
+    std::vector<std::size_t> touchedList;
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value_[n]; };
     for (std::size_t q : changed) {
@@ -174,11 +180,14 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
             heap.push({u, q});
             if (!touched[q]) {
                 touched[q] = 1;
+                touchedList.push_back(q);
                 ++changes;
             }
         }
     }
-    return changes + relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, &touched);
+    changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, &touched, &touchedList);
+    for (std::size_t q : touchedList) touched[q] = 0;
+    return changes;
 }
 
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,

@@ -85,7 +85,8 @@ private:
     double cap_ = 0.0;
     Stencil stencil_ = Stencil::kFace6;
     Grid3<double> value_;
-    std::vector<std::uint8_t> seed_;  ///< 1 where a seed holds its value
+    std::vector<std::uint8_t> seed_;     ///< 1 where a seed holds its value
+    std::vector<std::uint8_t> touched_;  ///< scratch of `decrease`, all 0 between calls
 };
 
 /// The first-order Godunov upwind update of one voxel from the values of its face neighbours
