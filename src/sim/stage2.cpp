@@ -100,11 +100,35 @@ inline void forEachVoxel(const Dims& d, const TileCtx& c, Fn&& fn) {
         }
 }
 
-/// Calls fn(v, pool) for every voxel of the active tiles in increasing voxel index, one thread:
+/// Calls fn(v, pool, li, lj, lk) for the voxels of a tile whose bit is set in `mask`.
+template <typename Fn>
+inline void forEachMasked(const Dims& d, const TileCtx& c, const TileMask& mask, Fn&& fn) {
+    for (int r = 0; r < 64; ++r) {
+        unsigned bits = mask[std::size_t(r)];
+        if (!bits) continue;
+        const int lj = r & 7, lk = r >> 3;
+        const std::size_t row = d.index(c.i0, c.j0 + lj, c.k0 + lk);
+        const std::size_t prow = c.base + std::size_t(r * 8);
+        while (bits) {
+            const int li = __builtin_ctz(bits);
+            bits &= bits - 1;
+            fn(row + std::size_t(li), prow + std::size_t(li), li, lj, lk);
+        }
+    }
+}
+
+inline bool anyBit(const TileMask& m) {
+    for (std::uint8_t b : m)
+        if (b) return true;
+    return false;
+}
+
+/// Calls fn(v, pool) for every voxel of the active tiles (with `onlyNearSenders`, of the tiles
+/// near a sender this iteration) in increasing voxel index, one thread:
 /// sums taken this way equal the sums over the whole grid in voxel order bit for bit (the voxels
 /// left out contribute exact zeros).
 template <typename Fn>
-void forEachActiveInVoxelOrder(const Stage2State& st, Fn&& fn) {
+void forEachActiveInVoxelOrder(const Stage2State& st, bool onlyNearSenders, Fn&& fn) {
     const Dims& d = st.dims;
     const std::vector<std::uint32_t>& order = st.slotsInOrder;
     const std::uint32_t perRow = std::uint32_t(st.tilesX), perLayer = perRow * std::uint32_t(st.tilesY);
@@ -125,6 +149,7 @@ void forEachActiveInVoxelOrder(const Stage2State& st, Fn&& fn) {
                 const int nj = tileCtx(st, order[x]).nj;
                 for (int lj = 0; lj < nj; ++lj)
                     for (std::size_t z = x; z < y; ++z) {
+                        if (onlyNearSenders && !st.nearSender[order[z]]) continue;  // exact zeros there
                         const TileCtx c = tileCtx(st, order[z]);
                         const std::size_t at = d.index(c.i0, c.j0 + lj, c.k0 + lk);
                         const std::size_t prow = c.base + std::size_t(8 * (lj + 8 * lk));
@@ -146,6 +171,23 @@ inline double pairedSum(const Dims& d, const TileCtx& c, int li, int lj, int lk,
     const std::ptrdiff_t sy = d.nx, sz = std::ptrdiff_t(d.nx) * d.ny;
     double total = 0;
     int s = 0;
+    if (li > 0 && lj > 0 && lk > 0 && li + 1 < c.ni && lj + 1 < c.nj && lk + 1 < c.nk) {
+        // Inside the tile and the grid: every neighbour is in this tile, at fixed offsets. The
+        // same terms in the same order as below.
+        const std::int64_t p = std::int64_t(c.base) + li + 8 * (lj + 8 * lk);
+        for (int g = 0; g < 9; ++g) {
+            const int dj = g % 3 - 1, dk = g / 3 - 1;
+            const std::size_t at = std::size_t(std::ptrdiff_t(v) + dj * sy + dk * sz);
+            const std::int64_t q = p + 8 * dj + 64 * dk;
+            const double lo = term(s, at - 1, q - 1);
+            const double hi = term(s + 1, at + 1, q + 1);
+            double sum = lo + hi;
+            if (g != 4) sum += term(s + 2, at, q);
+            total += sum;
+            s += g == 4 ? 2 : 3;
+        }
+        return total;
+    }
     for (int g = 0; g < 9; ++g) {
         const int dj = g % 3 - 1, dk = g / 3 - 1;
         const int jj = j + dj, kk = k + dk;
@@ -274,7 +316,16 @@ double& Stage2State::ref(std::vector<double>& field, std::size_t v) {
         activateTile(std::uint32_t(p.i / kTileSize + tilesX * (p.j / kTileSize + tilesY * (p.k / kTileSize))));
         refreshTiles();
     }
-    return field[std::size_t(poolIndex(v))];
+    const std::size_t p = std::size_t(poolIndex(v));
+    const std::size_t slot = p / kTileVoxels;
+    nearSender[slot] = 1;  // a hand-set value is worked on by the next step: the whole tile is
+    const Index3 at = dims.coord(v);
+    const int i0 = at.i / kTileSize * kTileSize, j0 = at.j / kTileSize * kTileSize, k0 = at.k / kTileSize * kTileSize;
+    const int ni = std::min(kTileSize, dims.nx - i0), nj = std::min(kTileSize, dims.ny - j0),
+              nk = std::min(kTileSize, dims.nz - k0);
+    for (int r = 0; r < 64; ++r)
+        workMask[slot][std::size_t(r)] = (r & 7) < nj && (r >> 3) < nk ? std::uint8_t((1u << ni) - 1u) : 0;
+    return field[p];
 }
 
 void Stage2State::activateTile(std::uint32_t tile) {
@@ -282,6 +333,10 @@ void Stage2State::activateTile(std::uint32_t tile) {
     tileSlot[tile] = std::int32_t(activeTiles.size());
     activeTiles.push_back(tile);
     wetNow.push_back(0);
+    nearSender.push_back(0);
+    senderMask.push_back(TileMask{});
+    workMask.push_back(TileMask{});
+    previousMask.push_back(TileMask{});
     const std::size_t n = activeTiles.size() * kTileVoxels;
     for (std::vector<double>* f : {&norm, &scale, &incoming, &fc, &fa, &upShare, &drainedHere, &erodedHere})
         f->resize(n, 0.0);
@@ -438,6 +493,9 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
     const std::vector<double>& water = st.water;
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
+        if (!st.tileWet[st.activeTiles[c.slot]]) return;  // never held water: no sender, norm stays 0
+        TileMask& senders = st.senderMask[c.slot];
+        senders.fill(0);
         forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double w = water[v];
             st.norm[p] = 0;
@@ -463,7 +521,38 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
             const double total = pairedSlotSum(share);
             st.norm[p] = norm;
             st.scale[p] = total > w ? w / total : 1.0;  // never more in total than the contents
+            senders[std::size_t(lj + 8 * lk)] |= std::uint8_t(1u << li);
         });
+    });
+    // The voxels that can receive, send, flow or erode this iteration: the senders and their 26
+    // neighbours (the sender masks dilated by one voxel, across tile borders).
+    const std::size_t nSlots = st.activeTiles.size();
+    tbb::parallel_for(std::size_t(0), nSlots, [&](std::size_t sl) {
+        const TileCtx c = tileCtx(st, sl);
+        const auto& nb = st.neighbourBase[sl];
+        const auto maskOf = [&](int dx, int dy, int dz, int row) -> unsigned {
+            const std::int64_t b = nb[std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1))];
+            return b < 0 ? 0u : st.senderMask[std::size_t(b) / kTileVoxels][std::size_t(row)];
+        };
+        TileMask& work = st.workMask[sl];
+        bool any = false;
+        const unsigned inside = c.ni >= 8 ? 0xffu : (1u << c.ni) - 1u;
+        for (int r = 0; r < 64; ++r) {
+            const int lj = r & 7, lk = r >> 3;
+            unsigned m = 0;
+            if (lj < c.nj && lk < c.nk)
+                for (int dk = -1; dk <= 1; ++dk)
+                    for (int dj = -1; dj <= 1; ++dj) {
+                        const int a = lj + dj, b = lk + dk;
+                        const int ty = a >> 3, tz = b >> 3, row = (a & 7) + 8 * (b & 7);
+                        const unsigned mc = maskOf(0, ty, tz, row);
+                        m |=
+                            mc | (mc << 1) | (mc >> 1) | (maskOf(-1, ty, tz, row) >> 7) | (maskOf(1, ty, tz, row) << 7);
+                    }
+            work[std::size_t(r)] = std::uint8_t(m & inside);
+            any = any || work[std::size_t(r)];
+        }
+        st.nearSender[sl] = any ? 1 : 0;
     });
 }
 
@@ -485,7 +574,17 @@ void computeAcceptance(const Domain& dom, const Grid3<double>& P, TransportWeigh
     for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
-        forEachVoxel(d, c, [&](std::size_t u, std::size_t p, int li, int lj, int lk) {
+        const TileMask& work = st.workMask[c.slot];
+        const TileMask& previous = st.previousMask[c.slot];
+        // Voxels that worked last iteration and rest now: their transients back to rest.
+        TileMask leaving{};
+        for (std::size_t r = 0; r < 64; ++r) leaving[r] = std::uint8_t(previous[r] & ~work[r]);
+        forEachMasked(d, c, leaving, [&](std::size_t, std::size_t p, int, int, int) {
+            st.incoming[p] = st.fc[p] = st.fa[p] = st.upShare[p] = st.drainedHere[p] = st.erodedHere[p] = 0;
+            st.accept[p] = 1;
+        });
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        forEachMasked(d, c, work, [&](std::size_t u, std::size_t p, int li, int lj, int lk) {
             const double pu = P[u];
             const double fr = double(dom.porosity[u]) - st.water[u];
             // The offer reaching u from its neighbour v, recomputed from v's norm and scale.
@@ -513,7 +612,8 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
     const Dims& d = dom.dims;
     // f_c: what each sender's offers bring, times the receivers' acceptance (read-only water).
     forEachTile(st, [&](const TileCtx& c) {
-        forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double nv = st.norm[p];
             if (!(nv > 0)) {
                 st.fc[p] = 0;
@@ -528,8 +628,13 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
         });
     });
     forEachTile(st, [&](const TileCtx& c) {
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
         bool wet = false;
         forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int, int, int) {
+            if (!(st.workMask[c.slot][p % kTileVoxels / 8] >> (p % 8) & 1u)) {
+                wet = wet || st.water[v] > 0;
+                return;
+            }
             st.water[v] += st.accept[p] * st.incoming[p] - st.fc[p];
             st.drainedHere[p] = 0;
             if (dom.flags[v] & kSink) {
@@ -541,7 +646,7 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
         st.wetNow[c.slot] = wet ? 1 : 0;
     });
     double drained = 0, moved = 0;
-    forEachActiveInVoxelOrder(st, [&](std::size_t v, std::size_t p) {
+    forEachActiveInVoxelOrder(st, true, [&](std::size_t v, std::size_t p) {
         moved += st.fc[p];
         if (dom.flags[v] & kSink) drained += st.drainedHere[p];
     });
@@ -553,7 +658,8 @@ void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending,
     const Dims& d = dom.dims;
     if (split)
         forEachTile(st, [&](const TileCtx& c) {
-            forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
+            if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+            forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
                 if (st.fc[p] == 0) {
                     st.upShare[p] = 0;
                     return;
@@ -565,7 +671,8 @@ void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending,
             });
         });
     forEachTile(st, [&](const TileCtx& c) {
-        forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double pv = P[v];
             if (split) {
                 st.fa[p] = pairedSum(d, c, li, lj, lk, v, [&](int, std::size_t u, std::int64_t q) {
@@ -607,7 +714,17 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
     const Dims& d = dom.dims;
     std::vector<std::vector<std::size_t>> fresh(st.activeTiles.size()), conducting(st.activeTiles.size());
     forEachTile(st, [&](const TileCtx& c) {
-        forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int, int, int) {
+        const TileMask& work = st.workMask[c.slot];
+        TileMask& previous = st.previousMask[c.slot];
+        // f = 0 where nothing flows now (Eq. 1 erodes nothing): clear the flow of the last iteration once.
+        TileMask leaving{};
+        for (std::size_t r = 0; r < 64; ++r) leaving[r] = std::uint8_t(previous[r] & ~work[r]);
+        forEachMasked(d, c, leaving, [&](std::size_t v, std::size_t, int, int, int) {
+            if (!(dom.flags[v] & kOpen)) dom.flow[v] = 0.f;
+        });
+        previous = work;
+        if (!st.nearSender[c.slot]) return;
+        forEachMasked(d, c, work, [&](std::size_t v, std::size_t p, int, int, int) {
             st.erodedHere[p] = 0;
             if (dom.flags[v] & kOpen) return;
             const double flow = g.wa * st.fa[p] + st.fc[p];
@@ -629,7 +746,7 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
         st.channelVoxels += long(conducting[s].size());
     }
     double eroded = 0;
-    forEachActiveInVoxelOrder(st, [&](std::size_t, std::size_t p) { eroded += st.erodedHere[p]; });
+    forEachActiveInVoxelOrder(st, true, [&](std::size_t, std::size_t p) { eroded += st.erodedHere[p]; });
     return eroded;
 }
 
@@ -657,7 +774,7 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
                                          int iteration) {
     double stored = 0;
     bool finite = true;
-    forEachActiveInVoxelOrder(st, [&](std::size_t v, std::size_t) {
+    forEachActiveInVoxelOrder(st, false, [&](std::size_t v, std::size_t) {
         stored += st.water[v];
         finite = finite && std::isfinite(st.water[v]) && std::isfinite(dom.flow[v]) && std::isfinite(pressure[v]);
     });
@@ -670,7 +787,7 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
                            ", " + std::to_string(p.k) + ")");
     };
     const auto check = [&](const char* name, auto&& value) {
-        forEachActiveInVoxelOrder(st, [&](std::size_t v, std::size_t p) {
+        forEachActiveInVoxelOrder(st, false, [&](std::size_t v, std::size_t p) {
             const double x = value(v, p);
             if (!std::isfinite(x)) fail(name, v, x);
         });

@@ -36,6 +36,8 @@ namespace cavesim::stage2 {
 /// Stage 2 works on tiles of 8 × 8 × 8 voxels (the last tile along an axis may be cut by the grid).
 constexpr int kTileSize = 8;
 constexpr std::size_t kTileVoxels = 512;
+/// One bit per voxel of a tile: byte lj + 8·lk, bit li.
+using TileMask = std::array<std::uint8_t, 64>;
 
 /// The working state of stage 2 besides the domain. The water contents are dense (8 bytes a
 /// voxel); everything else a step computes lives only on the **active tiles**: the tiles that
@@ -57,7 +59,11 @@ struct Stage2State {
     std::vector<std::uint32_t> slotsInOrder;  ///< active slots sorted by tile id (for sums in voxel order)
     /// per slot: pool base (slot · 512) of the 27 tiles around it, index (dx+1) + 3(dy+1) + 9(dz+1); −1 inactive
     std::vector<std::array<std::int64_t, 27>> neighbourBase;
-    std::vector<std::uint8_t> wetNow;  ///< per slot: holds water after the last moveWater
+    std::vector<std::uint8_t> wetNow;      ///< per slot: holds water after the last moveWater
+    std::vector<std::uint8_t> nearSender;  ///< per slot: some voxel of the tile works this iteration
+    std::vector<TileMask> senderMask;      ///< per slot: voxels that send this iteration
+    std::vector<TileMask> workMask;        ///< per slot: senders and their 26 neighbours (only these do work)
+    std::vector<TileMask> previousMask;    ///< per slot: workMask of the last iteration
 
     // Per-voxel transients of the active tiles (slot · 512 + local).
     std::vector<double> norm;         ///< Σ weights of a sender's participants; 0 for a voxel that sends nothing
@@ -77,7 +83,7 @@ struct Stage2State {
     std::ptrdiff_t poolIndex(std::size_t v) const;
     /// A transient of voxel v (`absent` when its tile is inactive: the value every step leaves there).
     double at(const std::vector<double>& field, std::size_t v, double absent = 0.0) const;
-    /// A transient of voxel v for writing (tests); activates its tile.
+    /// A transient of voxel v for writing (tests); activates its tile and marks it near a sender.
     double& ref(std::vector<double>& field, std::size_t v);
     /// Activates a tile (by tile id): transients with their resting values (accept 1, the rest 0).
     void activateTile(std::uint32_t tile);
