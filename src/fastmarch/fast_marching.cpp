@@ -24,7 +24,21 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Min-heap of (value, voxel); equal values pop in voxel order, so runs are reproducible.
 using HeapEntry = std::pair<double, std::size_t>;
-using MinHeap = std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<HeapEntry>>;
+/// The same operations and order as std::priority_queue with std::greater, with its vector open
+/// (EikonalField keeps pending entries between calls).
+struct MinHeap {
+    std::vector<HeapEntry> c;
+    bool empty() const { return c.empty(); }
+    const HeapEntry& top() const { return c.front(); }
+    void push(const HeapEntry& e) {
+        c.push_back(e);
+        std::push_heap(c.begin(), c.end(), std::greater<HeapEntry>());
+    }
+    void pop() {
+        std::pop_heap(c.begin(), c.end(), std::greater<HeapEntry>());
+        c.pop_back();
+    }
+};
 
 /// Smallest value of the two neighbours along one axis; −x and +x (or −y/+y, −z/+z) are combined
 /// by std::min, which is symmetric, so mirrored inputs give mirrored results.
@@ -62,7 +76,7 @@ double fullUpdate(const Dims& d, const Index3& p, const Get& get, double f, Sten
 /// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
 std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
                   Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched,
-                  std::vector<std::size_t>* touchedList = nullptr) {
+                  std::vector<std::size_t>* touchedList = nullptr, double limit = kInf) {
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value[n]; };
     const bool diagonal = stencil == Stencil::kAvalanche26;
@@ -83,7 +97,7 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
             }
         }
     };
-    while (!heap.empty()) {
+    while (!heap.empty() && heap.top().first <= limit) {
         const auto [v, q] = heap.top();
         heap.pop();
         if (v != value[q]) continue;  // stale entry
@@ -150,6 +164,7 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     stencil_ = stencil;
     value_ = Grid3<double>(dims, cap);
     seed_.assign(dims.count(), 0);
+    pending_.clear();
     MinHeap heap;
     for (const Seed& s : seeds) {
         CAVESIM_CHECK(s.voxel < dims.count(), "EikonalField::solve: seed voxel " + std::to_string(s.voxel) +
@@ -163,10 +178,12 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, nullptr);
 }
 
-std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed) {
+std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed,
+                                   double limit) {
     // `touched_` stays allocated between calls and only the entries set here are cleared again, so
     // the cost follows the voxels that change, not the grid.
     MinHeap heap;
+    heap.c.swap(pending_);
     std::vector<std::uint8_t>& touched = touched_;
     if (touched.size() != dims_.count()) touched.assign(dims_.count(), 0);
     std::vector<std::size_t> touchedList;
@@ -185,9 +202,29 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
             }
         }
     }
-    changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, &touched, &touchedList);
+    changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, &touched, &touchedList, limit);
     for (std::size_t q : touchedList) touched[q] = 0;
+    // Entries above the limit wait for a later call. Stale ones (their voxel fell since) and
+    // duplicates are dropped when they pile up, so the pending list stays near the size of the
+    // front it stands for.
+    if (heap.c.size() > std::max<std::size_t>(std::size_t(1) << 16, 2 * pendingCompacted_)) {
+        std::vector<HeapEntry> keep;
+        for (const HeapEntry& e : heap.c)
+            if (e.first == value_[e.second] && !touched[e.second]) {
+                touched[e.second] = 1;
+                keep.push_back(e);
+            }
+        for (const HeapEntry& e : keep) touched[e.second] = 0;
+        std::make_heap(keep.begin(), keep.end(), std::greater<HeapEntry>());
+        heap.c.swap(keep);
+        pendingCompacted_ = heap.c.size();
+    }
+    pending_.swap(heap.c);
     return changes;
+}
+
+std::size_t EikonalField::settle(const Grid3<float>& slowness) {
+    return decrease(slowness, {}, kInf);
 }
 
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
