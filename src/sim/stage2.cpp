@@ -766,8 +766,20 @@ void startStage2(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<flo
 }
 
 std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>& rate,
-                           const std::vector<std::size_t>& newChannel) {
-    return newChannel.empty() ? 0 : pressure.decrease(rate, newChannel);
+                           const std::vector<std::size_t>& newChannel, double limit) {
+    return newChannel.empty() && pressure.settled() ? 0 : pressure.decrease(rate, newChannel, limit);
+}
+
+double pressureNeeded(const Stage2State& st, const Grid3<double>& pressure) {
+    std::vector<double> top(st.activeTiles.size(), 0.0);
+    forEachTile(st, [&](const TileCtx& c) {
+        double m = 0;
+        forEachVoxel(st.dims, c, [&](std::size_t v, std::size_t, int, int, int) { m = std::max(m, pressure[v]); });
+        top[c.slot] = m;
+    });
+    double m = 0;
+    for (double x : top) m = std::max(m, x);  // max is order-free
+    return m;
 }
 
 std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure,
@@ -886,7 +898,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         // Pressure: propagate the decreases caused by new channel voxels.
         {
             const Stopwatch tp;
-            rec.pressureUpdates = long(updatePressure(pressure, rate, changed));
+            rec.pressureUpdates = long(updatePressure(pressure, rate, changed, pressureNeeded(st, pressure.value())));
             res.pressureSeconds += tp.seconds();
         }
 
@@ -908,6 +920,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         res.iterations = it;
 
         if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
+            pressure.settle(rate);  // the whole field for the picture
             for (std::size_t v = 0; v < n; ++v) {
                 dom.water[v] = float(st.water[v]);
                 dom.pressure[v] = float(pressure.value()[v]);
@@ -917,6 +930,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         reportProgress(progress, "stage 2", it, g.iterations);
     }
 
+    pressure.settle(rate);  // the sweeps that waited beyond the water
     for (std::size_t v = 0; v < n; ++v) {
         dom.water[v] = float(st.water[v]);
         dom.pressure[v] = float(pressure.value()[v]);

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -165,8 +166,17 @@ void startStage2(Domain& domain, const Stage2Options& options, Stage2State& stat
 /// Step 7: the pressure after the voxels in `newChannel` took the channel rate (rates only fall,
 /// so pressure only falls): the decrease re-propagated from them through `pressure`. Returns the
 /// number of voxels whose pressure changed.
+/// Only values up to `limit` are made final (pressureNeeded: the largest pressure of the active
+/// tiles, the only voxels the next iteration reads); the rest of the sweep waits in `pressure`
+/// until it is needed or settled (EikonalField::decrease). Returns the number of voxels whose
+/// pressure changed in this call.
 std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>& rate,
-                           const std::vector<std::size_t>& newChannel);
+                           const std::vector<std::size_t>& newChannel,
+                           double limit = std::numeric_limits<double>::infinity());
+
+/// The largest pressure stored on the active tiles: an upper bound of the true pressure of every
+/// voxel the next iteration reads.
+double pressureNeeded(const Stage2State& state, const Grid3<double>& pressure);
 
 /// Sources joined to a sink through channel voxels (26-connected through channel, source and
 /// sink voxels), in source order. A breadth-first search over the whole grid: the reference for
