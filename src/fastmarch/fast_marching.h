@@ -90,7 +90,16 @@ public:
     std::size_t settle(const Grid3<float>& slowness);
 
     /// True when no limited sweep is pending (every value is final).
-    bool settled() const { return pending_.empty(); }
+    bool settled() const { return pending_.empty() && buckets_.count == 0; }
+
+    /// The avalanche stencil's queue: entries (value, voxel) bucketed by value.
+    struct Buckets {
+        std::vector<std::vector<std::pair<double, std::size_t>>> bucket;
+        double width = 1.0;         ///< value range of one bucket
+        std::size_t lowest = 0;     ///< no entry lies in a bucket below this
+        std::size_t count = 0;      ///< entries (pending ones between calls)
+        std::size_t compacted = 0;  ///< count after the last clean-up
+    };
 
     const Grid3<double>& value() const { return value_; }
     double cap() const { return cap_; }
@@ -104,6 +113,8 @@ private:
     std::vector<std::uint8_t> touched_;                    ///< scratch of `decrease`, all 0 between calls
     std::vector<std::pair<double, std::size_t>> pending_;  ///< heap entries above the last limit
     std::size_t pendingCompacted_ = 0;                     ///< size of pending_ after its last clean-up
+    Buckets buckets_;                                      ///< kAvalanche26: the queue; pending entries between calls
+    bool useBuckets_ = false;                              ///< the queue is `buckets_` (else a heap)
 };
 
 /// The first-order Godunov upwind update of one voxel from the values of its face neighbours
