@@ -893,6 +893,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         conducting.clear();
         rec.eroded = erode(dom, g, st, rate, changed, conducting);
         growActiveTiles(st);
+        for (std::size_t sl = 0; sl < st.activeTiles.size(); ++sl)
+            if (st.nearSender[sl])
+                for (std::uint8_t b : st.workMask[sl]) res.workedVoxelIterations += double(__builtin_popcount(b));
         res.erosionSeconds += te.seconds();
 
         // Pressure: propagate the decreases caused by new channel voxels.
@@ -930,6 +933,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         reportProgress(progress, "stage 2", it, g.iterations);
     }
 
+    res.activeTiles = long(st.activeTiles.size());
+    res.tiles = long(st.tileSlot.size());
     pressure.settle(rate);  // the sweeps that waited beyond the water
     for (std::size_t v = 0; v < n; ++v) {
         dom.water[v] = float(st.water[v]);
