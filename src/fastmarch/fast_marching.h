@@ -1,6 +1,7 @@
 /// @file fast_marching.h
 /// @brief Fast marching on the voxel grid (Sethian 1996): first-order Godunov upwind update over
-/// the 6 face neighbours, a binary heap ordering the narrow band.
+/// the 6 face neighbours, a binary heap ordering the narrow band (the 26-neighbour avalanche
+/// stencil uses a bucket queue where the buckets can be as narrow as its smallest edge cost).
 ///
 /// Two uses in cavesim (Pytel & Mann, JCGT 2015):
 ///  - `marchLabelled`: several labelled fronts race; every voxel takes the label of the front that

@@ -21,6 +21,9 @@
 ///     channel pressure rate); breakthrough = the first iteration a channel joins a source to a sink.
 ///
 /// The steps are named functions in sim/stage2_steps.h, each tested against hand-computed numbers.
+/// They work only where water is: on the 8³ tiles water reached (and their neighbours), and there
+/// only on the senders and their 26 neighbours; the pressure decrease is propagated only as far as
+/// those voxels read it (docs/model.md, "Where stage 2 works").
 /// Every sum over neighbours pairs the −x and +x neighbour first, so an x-mirrored scenario gives
 /// an x-mirrored result bit for bit; every voxel's update reads only the previous state, so the
 /// result is the same for any thread count.
