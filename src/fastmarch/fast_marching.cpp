@@ -62,7 +62,11 @@ struct BucketQueue {
         ++q.count;
     }
     const HeapEntry& top() {
-        while (q.bucket[q.lowest].empty()) ++q.lowest;
+        while (q.bucket[q.lowest].empty()) {
+            // A drained bucket gives its memory back: the buckets together hold only the front.
+            if (q.bucket[q.lowest].capacity() > 64) std::vector<HeapEntry>().swap(q.bucket[q.lowest]);
+            ++q.lowest;
+        }
         return q.bucket[q.lowest].back();
     }
     void pop() {

@@ -333,6 +333,8 @@ void Stage2State::activateTile(std::uint32_t tile) {
     tileSlot[tile] = std::int32_t(activeTiles.size());
     activeTiles.push_back(tile);
     wetNow.push_back(0);
+    waterChanged.push_back(1);
+    pressureTop.push_back(-1.0);
     nearSender.push_back(0);
     senderMask.push_back(TileMask{});
     workMask.push_back(TileMask{});
@@ -481,6 +483,7 @@ double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage
             st.water[v] = target;
         }
         if (st.water[v] > 0) grown = wetTile(st, tileOf(st, v)) || grown;
+        st.waterChanged[std::size_t(st.tileSlot[tileOf(st, v)])] = 1;
     }
     if (grown) st.refreshTiles();
     return injected;
@@ -493,7 +496,10 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
     const std::vector<double>& water = st.water;
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
-        if (!st.tileWet[st.activeTiles[c.slot]]) return;  // never held water: no sender, norm stays 0
+        // A tile whose water did not change since its last scan has no senders (a sender always works
+        // on its own tile, which marks it changed).
+        if (!st.waterChanged[c.slot]) return;
+        st.waterChanged[c.slot] = 0;
         TileMask& senders = st.senderMask[c.slot];
         senders.fill(0);
         forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
@@ -629,12 +635,9 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
     });
     forEachTile(st, [&](const TileCtx& c) {
         if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
-        bool wet = false;
-        forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int, int, int) {
-            if (!(st.workMask[c.slot][p % kTileVoxels / 8] >> (p % 8) & 1u)) {
-                wet = wet || st.water[v] > 0;
-                return;
-            }
+        bool wet = st.wetNow[c.slot];
+        st.waterChanged[c.slot] = 1;
+        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int, int, int) {
             st.water[v] += st.accept[p] * st.incoming[p] - st.fc[p];
             st.drainedHere[p] = 0;
             if (dom.flags[v] & kSink) {
@@ -770,15 +773,17 @@ std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>
     return newChannel.empty() && pressure.settled() ? 0 : pressure.decrease(rate, newChannel, limit);
 }
 
-double pressureNeeded(const Stage2State& st, const Grid3<double>& pressure) {
-    std::vector<double> top(st.activeTiles.size(), 0.0);
+double pressureNeeded(Stage2State& st, const Grid3<double>& pressure) {
+    // Pressure only falls, so a tile's largest pressure taken when it was activated stays an upper
+    // bound: each tile is scanned once.
     forEachTile(st, [&](const TileCtx& c) {
+        if (st.pressureTop[c.slot] >= 0) return;
         double m = 0;
         forEachVoxel(st.dims, c, [&](std::size_t v, std::size_t, int, int, int) { m = std::max(m, pressure[v]); });
-        top[c.slot] = m;
+        st.pressureTop[c.slot] = m;
     });
     double m = 0;
-    for (double x : top) m = std::max(m, x);  // max is order-free
+    for (double x : st.pressureTop) m = std::max(m, x);  // max is order-free
     return m;
 }
 

@@ -60,11 +60,13 @@ struct Stage2State {
     std::vector<std::uint32_t> slotsInOrder;  ///< active slots sorted by tile id (for sums in voxel order)
     /// per slot: pool base (slot · 512) of the 27 tiles around it, index (dx+1) + 3(dy+1) + 9(dz+1); −1 inactive
     std::vector<std::array<std::int64_t, 27>> neighbourBase;
-    std::vector<std::uint8_t> wetNow;      ///< per slot: holds water after the last moveWater
-    std::vector<std::uint8_t> nearSender;  ///< per slot: some voxel of the tile works this iteration
-    std::vector<TileMask> senderMask;      ///< per slot: voxels that send this iteration
-    std::vector<TileMask> workMask;        ///< per slot: senders and their 26 neighbours (only these do work)
-    std::vector<TileMask> previousMask;    ///< per slot: workMask of the last iteration
+    std::vector<std::uint8_t> wetNow;        ///< per slot: holds water after the last moveWater
+    std::vector<std::uint8_t> waterChanged;  ///< per slot: water changed since computeOffers last scanned it
+    std::vector<double> pressureTop;         ///< per slot: an upper bound of its pressure (−1: not yet taken)
+    std::vector<std::uint8_t> nearSender;    ///< per slot: some voxel of the tile works this iteration
+    std::vector<TileMask> senderMask;        ///< per slot: voxels that send this iteration
+    std::vector<TileMask> workMask;          ///< per slot: senders and their 26 neighbours (only these do work)
+    std::vector<TileMask> previousMask;      ///< per slot: workMask of the last iteration
 
     // Per-voxel transients of the active tiles (slot · 512 + local).
     std::vector<double> norm;         ///< Σ weights of a sender's participants; 0 for a voxel that sends nothing
@@ -174,9 +176,9 @@ std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>
                            const std::vector<std::size_t>& newChannel,
                            double limit = std::numeric_limits<double>::infinity());
 
-/// The largest pressure stored on the active tiles: an upper bound of the true pressure of every
-/// voxel the next iteration reads.
-double pressureNeeded(const Stage2State& state, const Grid3<double>& pressure);
+/// An upper bound of the true pressure of every voxel the next iteration reads: the largest
+/// pressure stored on each active tile when it was first asked (pressure only falls).
+double pressureNeeded(Stage2State& state, const Grid3<double>& pressure);
 
 /// Sources joined to a sink through channel voxels (26-connected through channel, source and
 /// sink voxels), in source order. A breadth-first search over the whole grid: the reference for
