@@ -20,8 +20,9 @@ constexpr double kActiveShare = 0.6;       // share of the block's tiles that wa
 constexpr double kOutputBytes = 40;        // the state grids as OpenVDB trees while state.vdb is written
 
 // Rough time: ns per voxel for the fixed work, ns per voxel-iteration of stage 2.
-constexpr double kFixedNs = 3000;
-constexpr double kIterationNs = 15;
+constexpr double kFixedNs = 5000;
+constexpr double kIterationNs = 40;
+constexpr double kLargestZone = 1.3;  // the largest zone against an equal share of the block (fig10 k = 1…3)
 
 std::string megabytes(double bytes) {
     std::string s = std::to_string(long(std::ceil(bytes / 1e6)));
@@ -39,7 +40,7 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
     if (s.stage1.enabled && !s.sources.empty()) {
         const double sources = double(s.sources.size());
         const double atOnce = std::min(sources, double(std::max(1, threads)));
-        const double zone = std::min(n / sources, double(s.stage1.maxGraphVoxels));
+        const double zone = std::min({kLargestZone * n / sources, n, double(s.stage1.maxGraphVoxels)});
         e.stage1Bytes =
             domain + kMarchBytes * n + std::max(atOnce * kMarchPerThread * n, atOnce * zone * kNetworkBytes);
     }
