@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the Figure 10 scenario scaled by k (bench/README.md, issue 13): every position, radius,
-sink box, noise scale and the iteration count times k. With --pad N the block is N times as wide
-and deep (same height? no: --pad multiplies nx and ny by N and nz by --padz) and the scaled scenario sits in its corner.
+sink box, noise scale and the iteration count times k. With --pad-to NX NY NZ the scaled features
+sit in the corner of a block of that size (the padding test).
 
 usage: fig10_scaled.py K [--pad-to NX NY NZ] > scenario.toml
 """
