@@ -5,8 +5,9 @@
 #include <cstdio>
 
 #include "app/report.h"
-#include "core/timer.h"
 #include "app/state.h"
+#include "core/timer.h"
+#include "formats/exports.h"
 #include "mesh/cave_mesh.h"
 #include "mesh/cave_pictures.h"
 #include "morpho/analysis.h"
@@ -21,7 +22,6 @@
 namespace cavesim::app {
 namespace {
 
-
 void say(const LogFn& log, const std::string& message) {
     if (log) log(message);
 }
@@ -31,11 +31,12 @@ Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& 
     try {
         return runStage1(dom, s.stage1, rng, progress);
     } catch (const Stage1LimitError& e) {
-        const int line = e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
+        const int line =
+            e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
         std::string where = s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
         if (e.source >= 0) {
-            where += ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) +
-                     "' = " + std::to_string(s.stage1.maxGraphVoxels);
+            where +=
+                ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) + "' = " + std::to_string(s.stage1.maxGraphVoxels);
         }
         throw InputError(where + ": " + e.what());
     }
@@ -93,8 +94,8 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         say(options.log, "stage 2: " + std::to_string(r.iterations) + " iterations, breakthrough " +
                              (r.breakthroughIteration ? "at iteration " + std::to_string(*r.breakthroughIteration)
                                                       : std::string("none")) +
-                             ", " + std::to_string(r.history.empty() ? 0 : r.history.back().sourcesConnected) +
-                             " of " + std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
+                             ", " + std::to_string(r.history.empty() ? 0 : r.history.back().sourcesConnected) + " of " +
+                             std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
                              std::to_string(rec.timing.stage2).substr(0, 5) + " s");
     }
     const std::string statePath = dir.file("state.vdb").string();
@@ -109,10 +110,12 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     mesh::MeshOptions mo;
     mo.style = s.output.meshStyle;
     const std::string imagesDir = dir.file("images").string();
+    SurfaceMesh surface;  // the cave mesh in world space, for the export formats
     if (s.output.mesh && s.output.images) {
-        rec.mesh = meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo));
+        rec.mesh =
+            meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo, &surface));
     } else if (s.output.mesh) {
-        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo));
+        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo, &surface));
     } else if (s.output.images) {
         mesh::writeCavePictures(cave, imagesDir, width);
     }
@@ -127,6 +130,20 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
+
+    const Stopwatch te;
+    formats::ExportInputs exports;
+    exports.domain = &dom;
+    exports.cave = &cave;
+    exports.mesh = s.output.mesh ? &surface : nullptr;
+    exports.skeleton = &analysis.skeleton;
+    exports.network = &analysis.network;
+    exports.stage2 = rec.stage2 ? &*rec.stage2 : nullptr;
+    exports.meshOptions = mo;
+    exports.glb.normals = s.output.meshNormals;
+    exports.buildMeshIfMissing = false;  // `[output] mesh = false`: no mesh in any format
+    rec.exports = formats::writeExports(exports, dir.file("").string(), formats::formatSet(s.output.formats));
+    rec.timing.exports = te.seconds();
     rec.timing.total = t0.seconds();
     writeReport(s, dom, rec, dir.file("").string());
     // The effective scenario also records the state.vdb it produced (a comment, ignored by the

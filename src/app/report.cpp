@@ -196,11 +196,9 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["voxel_size_m"] = s.voxelSize;
     j["seed"] = s.seed;
     j["threads"] = rec.threads;
-    j["timing_s"] = {{"stage1", num(rec.timing.stage1)},
-                     {"stage2", num(rec.timing.stage2)},
-                     {"mesh", num(rec.timing.mesh)},
-                     {"report", num(rec.timing.report)},
-                     {"total", num(rec.timing.total)}};
+    j["timing_s"] = {{"stage1", num(rec.timing.stage1)},   {"stage2", num(rec.timing.stage2)},
+                     {"mesh", num(rec.timing.mesh)},       {"report", num(rec.timing.report)},
+                     {"exports", num(rec.timing.exports)}, {"total", num(rec.timing.total)}};
     j["stage1"] = rec.stage1 ? stage1Json(*rec.stage1) : nlohmann::json(nullptr);
     j["stage2"] =
         rec.stage2 ? stage2Json(*rec.stage2, s.voxelSize * s.voxelSize * s.voxelSize) : nlohmann::json(nullptr);
@@ -208,6 +206,7 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
     j["files"] = rec.files;
+    j["exports"] = rec.exports;
     j["checksums"] = {{"porosity", checksum(recordedPorosity(dom, s, StateMoment::kFinal))},
                       {"pressure", checksum(dom.pressure)},
                       {"flow", checksum(dom.flow)},
@@ -241,6 +240,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
        << "\n";
     md << "| mesh and pictures | " << fmt(at(t, "mesh")) << " |" << (paper ? " – |" : "") << "\n";
     md << "| skeleton and report | " << fmt(at(t, "report")) << " |" << (paper ? " – |" : "") << "\n";
+    if (t.contains("exports"))
+        md << "| files for other tools | " << fmt(at(t, "exports")) << " |" << (paper ? " – |" : "") << "\n";
     md << "| total | " << fmt(at(t, "total")) << " |" << (paper ? " – |" : "") << "\n";
 
     md << "\n## Events\n\n";
@@ -309,9 +310,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
             const auto* confined3 = findReferenceRange(rectKey.c_str(), "confined", 3);
             md << "| " << x.label << " | " << fmt(opt) << inRange(opt, confined2) << " | " << fmt(rect)
                << inRange(rect, confined3) << " | " << rangeText(findReferenceRange(optKey.c_str(), "unconfined", 2))
-               << " | " << rangeText(confined2) << " | "
-               << rangeText(findReferenceRange(rectKey.c_str(), "chamber", 3)) << " | " << rangeText(confined3)
-               << " |";
+               << " | " << rangeText(confined2) << " | " << rangeText(findReferenceRange(rectKey.c_str(), "chamber", 3))
+               << " | " << rangeText(confined3) << " |";
             if (paper) md << " " << paperIndexText(*paper, row) << " |";
             md << "\n";
             ++row;
@@ -327,8 +327,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
         // In the order the report has always listed them.
         for (const char* key : {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"}) {
             const morpho::ReferenceRange* m = morpho::findReferenceRange(key, "real caves", 0);
-            md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key)) << inRange(at(gm, key), m)
-               << " | " << rangeText(m) << " |\n";
+            md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key))
+               << inRange(at(gm, key), m) << " | " << rangeText(m) << " |\n";
         }
     }
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
