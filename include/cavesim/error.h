@@ -1,5 +1,8 @@
 /// @file error.h
 /// @brief The exception hierarchy of cavesim. Library code throws; only the command prints and exits.
+///
+/// Part of the public API (include/cavesim/cavesim.h includes it): the same classes are thrown by
+/// the internal modules and caught by users of the library. Only the standard library is used here.
 #pragma once
 
 #include <stdexcept>
@@ -30,6 +33,13 @@ public:
 /// the user's fault; the command exits with code 1 and reports "internal error". Thrown by
 /// `CAVESIM_CHECK` (core/check.h), whose message names file:line and the failed condition.
 class InternalError : public Error {
+public:
+    using Error::Error;
+};
+
+/// A run stopped early because its caller asked (`api::CancelToken`, or an exception thrown from
+/// the progress callback of a Python run). Never thrown by the command.
+class Cancelled : public Error {
 public:
     using Error::Error;
 };
