@@ -45,7 +45,8 @@ std::string version();
 
 /// A scenario value as TOML holds it: a boolean, an integer, a real number, a string, a list or
 /// a table (keys in order). Built implicitly from C++ values; `{1, 2, 3}` is a list,
-/// `Value::table({{"at", {1, 2, 3}}, {"pressure", 1.0}})` a table.
+/// `Value::table({{"at", {1, 2, 3}}, {"pressure", 1.0}})` a table, `Value::list({t})` a list of one
+/// table.
 class Value {
 public:
     enum class Kind { kBool, kInt, kReal, kString, kList, kTable };
@@ -62,6 +63,9 @@ public:
     Value(std::vector<Value> items) : kind_(Kind::kList), items_(std::move(items)) {}
     /// A table of `entries` (keys may be dotted: {"stage2.p_rate", 0.4}).
     static Value table(const std::vector<Entry>& entries);
+    /// A list of `items`. Needed for a list of one Value: C++ reads `{v}` as a copy of `v`, so a
+    /// one-entry table of arrays is `Value::list({Value::table(…)})`.
+    static Value list(std::vector<Value> items) { return Value(std::move(items)); }
 
     Kind kind() const { return kind_; }
     bool isTable() const { return kind_ == Kind::kTable; }
