@@ -121,7 +121,8 @@ namespace {
 
 void pushNode(toml::array& a, const Value& v);
 
-/// Assigns `v` to `t[key]` (a table merges into an existing table, anything else replaces).
+/// Assigns `v` to `t[key]`; a dotted key goes through its tables (made when missing); a table merges
+/// into an existing table, anything else replaces.
 void assignNode(toml::table& t, const std::string& key, const Value& v);
 
 toml::array toArray(const Value& v) {
@@ -160,6 +161,13 @@ void pushNode(toml::array& a, const Value& v) {
 }
 
 void assignNode(toml::table& t, const std::string& key, const Value& v) {
+    const std::size_t dot = key.find('.');
+    if (dot != std::string::npos && dot > 0 && dot + 1 < key.size()) {  // a dotted key: through its tables
+        const std::string head = key.substr(0, dot);
+        if (!t.get(head) || !t.get(head)->is_table()) t.insert_or_assign(head, toml::table{});
+        assignNode(*t.get(head)->as_table(), key.substr(dot + 1), v);
+        return;
+    }
     switch (v.kind()) {
         case Value::Kind::kBool:
             t.insert_or_assign(key, v.asBool());
