@@ -26,8 +26,9 @@ void say(const LogFn& log, const std::string& message) {
     if (log) log(message);
 }
 
-/// Stage 1, with its limits reported against the scenario: file, line of the source, the key.
-Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& progress) {
+}  // namespace
+
+Stage1Result runScenarioStage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& progress) {
     try {
         return runStage1(dom, s.stage1, rng, progress);
     } catch (const Stage1LimitError& e) {
@@ -42,8 +43,6 @@ Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& 
     }
 }
 
-}  // namespace
-
 PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {
     const Stopwatch t0;
     RunRecord rec;
@@ -56,7 +55,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
 
     if (s.stage1.enabled) {
         const Stopwatch t1;
-        rec.stage1 = stage1(dom, s, rng, progress);
+        rec.stage1 = runScenarioStage1(dom, s, rng, progress);
         rec.timing.stage1 = t1.seconds();
         writeState(dir.file("stage1.vdb").string(), dom, s, StateMoment::kAfterStage1);
         if (s.output.images) render::writeZonesPicture(dom, dir.file("images/zones.png").string(), width);
