@@ -248,7 +248,7 @@ std::string depthLabel(render::View view) {
         case render::View::kSideYZ:
             return "distance from x = max face (m)";
         default:
-            return "distance from viewer (m)";
+            return "elevation above block base (m)";
     }
 }
 
@@ -304,8 +304,16 @@ void shade(Image& img, const Frame& f, const GBuffer& g) {
                 const double head = std::max(0.0, -(n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]));
                 const Vec3d half = comb(light, 1.0, dir, -1.0, dir, 0.0);
                 const double spec = std::pow(std::max(0.0, n[0] * half[0] + n[1] * half[1] + n[2] * half[2]), 40.0);
-                const double t = std::clamp((double(d) - f.depthMin) / range, 0.0, 1.0);
-                Rgb c = render::scale(render::depthRamp(t), 0.28 + 0.55 * ndl + 0.32 * head);
+                // Perspective: colour by elevation (viridis, block base to top), what a geologist
+                // reads as depth; orthographic views: by distance along the view.
+                Rgb base;
+                if (cam.perspective) {
+                    const double along = double(d) / std::max(1e-12, dot(dir, cam.forward));
+                    base = render::viridis((o[2] + along * dir[2]) / std::max(f.blockMax[2], 1e-12));
+                } else {
+                    base = render::depthRamp(std::clamp((double(d) - f.depthMin) / range, 0.0, 1.0));
+                }
+                Rgb c = render::scale(base, 0.28 + 0.55 * ndl + 0.32 * head);
                 c = render::mix(c, render::colours::kWhite, 0.22 * spec);
                 // Outline where a neighbour is empty or much farther away.
                 bool edge = false;
@@ -335,7 +343,10 @@ Image renderView(const Cave& cave, render::View view, int width, const detail::C
                   cave.dims().ny, cave.dims().nz, render::formatMetres(cave.voxelSize).c_str(), caveVoxels);
     render::drawTitle(img, f, viewTitle(view), sub);
     render::drawStandardLegend(img, f);
-    render::drawColourBar(img, f, 1, render::depthRamp, f.depthMin, f.depthMax, false, depthLabel(view));
+    if (f.camera.perspective)
+        render::drawColourBar(img, f, 1, render::viridis, 0.0, f.blockMax[2], false, "elevation above block base (m)");
+    else
+        render::drawColourBar(img, f, 1, render::depthRamp, f.depthMin, f.depthMax, false, depthLabel(view));
     if (!ls.grid) render::drawNote(img, f, "no cave");
     return img;
 }
