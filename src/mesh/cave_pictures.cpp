@@ -341,7 +341,9 @@ Image renderView(const Cave& cave, render::View view, int width, const detail::C
     char sub[200];
     std::snprintf(sub, sizeof sub, "%d x %d x %d voxels of %s m; %ld cave voxels, smooth surface", cave.dims().nx,
                   cave.dims().ny, cave.dims().nz, render::formatMetres(cave.voxelSize).c_str(), caveVoxels);
-    render::drawTitle(img, f, viewTitle(view), sub);
+    render::drawTitle(
+        img, f, cave.dims().ny == 1 && view == render::View::kSideXZ ? "Cave, the 2D section x-z" : viewTitle(view),
+        sub);
     render::drawStandardLegend(img, f);
     if (f.camera.perspective)
         render::drawColourBar(img, f, 1, render::viridis, 0.0, f.blockMax[2], false, "elevation above block base (m)");
@@ -369,12 +371,19 @@ void checkWidth(int width) {
     CAVESIM_CHECK(width >= 64 && width <= 16384, "picture width must be in [64, 16384], got " + std::to_string(width));
 }
 
-void writeViews(const std::array<render::Image, 4>& images, const std::string& imagesDir) {
+// A 2D section (one voxel thick in y) is shown only as itself: the x–z view. Its plan is a line,
+// and the y–z and perspective views show the slab's edge.
+bool viewApplies(const Cave& cave, render::View view) {
+    return cave.dims().ny != 1 || view == render::View::kSideXZ;
+}
+
+void writeViews(const Cave& cave, const std::array<render::Image, 4>& images, const std::string& imagesDir) {
     std::error_code ec;
     std::filesystem::create_directories(imagesDir, ec);
     if (ec) throw RuntimeError("cannot create " + imagesDir + ": " + ec.message());
     // PNG compression is the costly part of writing: the four files in parallel.
     tbb::parallel_for(std::size_t(0), kCaveViews.size(), [&](std::size_t v) {
+        if (!viewApplies(cave, kCaveViews[v])) return;
         render::writePng((std::filesystem::path(imagesDir) / (render::viewStem(kCaveViews[v]) + ".png")).string(),
                          images[v]);
     });
@@ -389,7 +398,7 @@ std::array<render::Image, 4> renderCaveViews(const Cave& cave, int width, const 
 }
 
 void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width) {
-    writeViews(renderCaveViews(cave, width), imagesDir);
+    writeViews(cave, renderCaveViews(cave, width), imagesDir);
 }
 
 MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir, int width,
@@ -400,7 +409,7 @@ MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, con
     const detail::CaveSurface surface = detail::buildCaveSurface(cave.mask, cave.voxelSize, options, true);
     MeshStats stats = detail::writeMeshOutputs(surface.mesh, cave.mask, cave.voxelSize, dir, options);
     if (built) *built = toSurfaceMesh(surface.mesh);
-    writeViews(renderViews(cave, width, surface.levelSet), imagesDir);
+    writeViews(cave, renderViews(cave, width, surface.levelSet), imagesDir);
     stats.seconds = watch.seconds();
     return stats;
 }

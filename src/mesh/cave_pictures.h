@@ -31,7 +31,8 @@ inline constexpr std::array<render::View, 4> kCaveViews{render::View::kPerspecti
 std::array<render::Image, 4> renderCaveViews(const Cave& cave, int width, const MeshOptions& options = {});
 
 /// Writes imagesDir/perspective.png, plan.png, side_xz.png and side_yz.png (creating imagesDir),
-/// each through a temporary name and a rename.
+/// each through a temporary name and a rename; for a 2D section (one voxel thick in y) only
+/// side_xz.png, the section itself.
 /// @throw InternalError on a bad width; RuntimeError when a file cannot be written
 void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width);
 
