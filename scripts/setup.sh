@@ -17,3 +17,24 @@ if [ ! -f "$BUILD_DIR/build.ninja" ]; then
   cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
 fi
 cmake --build "$BUILD_DIR" --parallel "$(nproc)" >&2
+
+# The interactive 3D view of report.html: Google's <model-viewer> from the npm registry, fetched once
+# into the build (never committed) and copied next to each report.html by the run. Licence
+# Apache-2.0 (its bundle includes three.js, MIT, and lit, BSD-3-Clause): kept beside it as LICENSE.
+# Without it (no network) everything else works; the page then says it has no 3D view.
+MODEL_VIEWER_VERSION=4.4.0
+VIEWER_DIR="$BUILD_DIR/vendor/model-viewer"
+if [ "$(cat "$VIEWER_DIR/VERSION" 2>/dev/null)" != "$MODEL_VIEWER_VERSION" ]; then
+  command -v npm >/dev/null || install_packages setup npm
+  tmp=$(mktemp -d)
+  if (cd "$tmp" && npm pack --silent "@google/model-viewer@$MODEL_VIEWER_VERSION" >/dev/null 2>&1 \
+      && tar -xzf google-model-viewer-$MODEL_VIEWER_VERSION.tgz); then
+    mkdir -p "$VIEWER_DIR"
+    cp "$tmp/package/dist/model-viewer-umd.min.js" "$tmp/package/LICENSE" "$VIEWER_DIR/"
+    echo "$MODEL_VIEWER_VERSION" > "$VIEWER_DIR/VERSION"
+    echo "setup: model-viewer $MODEL_VIEWER_VERSION (Apache-2.0) in $VIEWER_DIR" >&2
+  else
+    echo "setup: could not fetch @google/model-viewer from npm; report.html will have no 3D view" >&2
+  fi
+  rm -rf "$tmp"
+fi

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/report_html.h"
 #include "app/report_section.h"
 #include "app/state.h"
 #include "core/error.h"
@@ -346,7 +347,9 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir) {
     rec.json = buildReportJson(s, dom, rec);
     writeFileAtomic((fs::path(dir) / "report.json").string(), rec.json.dump(2) + "\n");
-    writeFileAtomic((fs::path(dir) / "report.md").string(), buildReportMarkdown(s, rec.json, dir));
+    const std::string md = buildReportMarkdown(s, rec.json, dir);
+    writeFileAtomic((fs::path(dir) / "report.md").string(), md);
+    writeReportHtml(dir, md);
 }
 
 }  // namespace cavesim::app
