@@ -340,7 +340,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
         }
     }
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
-          "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`.\n";
+          "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`, `report.html` (this report with "
+          "a 3D view), `images/map_*` (cave maps).\n";
     return md.str();
 }
 
