@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "app/cave_maps.h"
 #include "app/report.h"
 #include "app/state.h"
 #include "core/timer.h"
@@ -127,6 +128,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const Grid3<float>* pressure = s.stage2.enabled ? &dom.pressure : nullptr;
     const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, pressure, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
+    if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
 
