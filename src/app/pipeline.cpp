@@ -4,9 +4,11 @@
 #include <chrono>
 #include <cstdio>
 
+#include "app/cave_maps.h"
 #include "app/report.h"
-#include "core/timer.h"
 #include "app/state.h"
+#include "core/timer.h"
+#include "formats/exports.h"
 #include "mesh/cave_mesh.h"
 #include "mesh/cave_pictures.h"
 #include "morpho/analysis.h"
@@ -21,27 +23,26 @@
 namespace cavesim::app {
 namespace {
 
-
 void say(const LogFn& log, const std::string& message) {
     if (log) log(message);
 }
 
-/// Stage 1, with its limits reported against the scenario: file, line of the source, the key.
-Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& progress) {
+}  // namespace
+
+Stage1Result runScenarioStage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& progress) {
     try {
         return runStage1(dom, s.stage1, rng, progress);
     } catch (const Stage1LimitError& e) {
-        const int line = e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
+        const int line =
+            e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
         std::string where = s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
         if (e.source >= 0) {
-            where += ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) +
-                     "' = " + std::to_string(s.stage1.maxGraphVoxels);
+            where +=
+                ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) + "' = " + std::to_string(s.stage1.maxGraphVoxels);
         }
         throw InputError(where + ": " + e.what());
     }
 }
-
-}  // namespace
 
 PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {
     const Stopwatch t0;
@@ -55,7 +56,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
 
     if (s.stage1.enabled) {
         const Stopwatch t1;
-        rec.stage1 = stage1(dom, s, rng, progress);
+        rec.stage1 = runScenarioStage1(dom, s, rng, progress);
         rec.timing.stage1 = t1.seconds();
         writeState(dir.file("stage1.vdb").string(), dom, s, StateMoment::kAfterStage1);
         if (s.output.images) render::writeZonesPicture(dom, dir.file("images/zones.png").string(), width);
@@ -93,8 +94,8 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         say(options.log, "stage 2: " + std::to_string(r.iterations) + " iterations, breakthrough " +
                              (r.breakthroughIteration ? "at iteration " + std::to_string(*r.breakthroughIteration)
                                                       : std::string("none")) +
-                             ", " + std::to_string(r.history.empty() ? 0 : r.history.back().sourcesConnected) +
-                             " of " + std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
+                             ", " + std::to_string(r.history.empty() ? 0 : r.history.back().sourcesConnected) + " of " +
+                             std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
                              std::to_string(rec.timing.stage2).substr(0, 5) + " s");
     }
     const std::string statePath = dir.file("state.vdb").string();
@@ -109,10 +110,12 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     mesh::MeshOptions mo;
     mo.style = s.output.meshStyle;
     const std::string imagesDir = dir.file("images").string();
+    SurfaceMesh surface;  // the cave mesh in world space, for the export formats
     if (s.output.mesh && s.output.images) {
-        rec.mesh = meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo));
+        rec.mesh =
+            meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo, &surface));
     } else if (s.output.mesh) {
-        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo));
+        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo, &surface));
     } else if (s.output.images) {
         mesh::writeCavePictures(cave, imagesDir, width);
     }
@@ -125,8 +128,23 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const Grid3<float>* pressure = s.stage2.enabled ? &dom.pressure : nullptr;
     const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, pressure, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
+    if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
+
+    const Stopwatch te;
+    formats::ExportInputs exports;
+    exports.domain = &dom;
+    exports.cave = &cave;
+    exports.mesh = s.output.mesh ? &surface : nullptr;
+    exports.skeleton = &analysis.skeleton;
+    exports.network = &analysis.network;
+    exports.stage2 = rec.stage2 ? &*rec.stage2 : nullptr;
+    exports.meshOptions = mo;
+    exports.glb.normals = s.output.meshNormals;
+    exports.buildMeshIfMissing = false;  // `[output] mesh = false`: no mesh in any format
+    rec.exports = formats::writeExports(exports, dir.file("").string(), formats::formatSet(s.output.formats));
+    rec.timing.exports = te.seconds();
     rec.timing.total = t0.seconds();
     writeReport(s, dom, rec, dir.file("").string());
     // The effective scenario also records the state.vdb it produced (a comment, ignored by the

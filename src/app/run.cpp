@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/output_dir.h"
 #include "core/error.h"
+#include "formats/exports.h"
 #include "sim/preflight.h"
 #include "sim/scenario_io.h"
 
@@ -45,6 +46,8 @@ Scenario requestedScenario(const RunRequest& request) {
     Scenario s = request.scenarioPath ? parseScenarioFile(*request.scenarioPath) : defaultScenario();
     if (request.seed) s.seed = parseSeed(*request.seed);
     if (request.meshStyle) s.output.meshStyle = *request.meshStyle;
+    if (request.formats) s.output.formats = formats::formatList(formats::parseFormatSet(*request.formats));
+    if (request.meshNormals) s.output.meshNormals = *request.meshNormals;
     validateScenario(s);
     return s;
 }

@@ -32,6 +32,12 @@ int main(int argc, char** argv) {
     runCmd->add_flag("--force,-f", run.force, "Replace a non-empty output directory");
     runCmd->add_option("--mesh-style", meshStyle, "smooth (default) or voxel (also writes the blocky mesh)")
         ->check(CLI::IsMember({"smooth", "voxel"}));
+    runCmd->add_option("--formats", run.formats,
+                       "Files for other tools, a comma list of glb, vtk, stl, svx, th, gocad, csv, vdb, or all, "
+                       "or none (default: the scenario's [output] formats, glb,vtk,svx,csv)");
+    std::string meshNormals;
+    runCmd->add_option("--mesh-normals", meshNormals, "outward (default) or inward: the side cave.glb's normals face")
+        ->check(CLI::IsMember({"outward", "inward"}));
     runCmd->add_flag("--quiet,-q", quiet, "No progress output");
 
     std::string validatePath;
@@ -66,6 +72,8 @@ int main(int argc, char** argv) {
     try {
         if (*runCmd) {
             if (!meshStyle.empty()) run.meshStyle = meshStyle == "voxel" ? MeshStyle::kVoxel : MeshStyle::kSmooth;
+            if (!meshNormals.empty())
+                run.meshNormals = meshNormals == "inward" ? MeshNormals::kInward : MeshNormals::kOutward;
             cli::ProgressBar bar(quiet);
             app::PipelineOptions callbacks;
             callbacks.progress = [&bar](const std::string& phase, long done, long total) {

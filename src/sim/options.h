@@ -58,6 +58,15 @@ enum class MeshStyle : std::uint8_t {
     kVoxel,   ///< also cave_voxels.obj: the faces between cave and rock voxels
 };
 
+/// An export format of `[output] formats` (formats/exports.h lists the files of each).
+enum class ExportFormat : std::uint8_t { kGlb, kVtk, kStl, kSvx, kTh, kGocad, kCsv, kVdb };
+
+/// Which side the exported mesh's normals face.
+enum class MeshNormals : std::uint8_t {
+    kOutward,  ///< out of the cave, into the rock: the cave seen from outside
+    kInward,   ///< into the cave: for renderers that cull back faces and show the walls from inside
+};
+
 /// Stage 1 (stage1.h): pressure zones, flow networks, protochannels.
 struct Stage1Options {
     bool enabled = true;
@@ -106,6 +115,9 @@ struct OutputOptions {
     bool images = true;
     bool mesh = true;
     CaveExtent cave = CaveExtent::kChannels;
+    /// Files for other tools, besides cave.obj/.ply, state.vdb and the skeleton files.
+    std::vector<ExportFormat> formats{ExportFormat::kGlb, ExportFormat::kVtk, ExportFormat::kSvx, ExportFormat::kCsv};
+    MeshNormals meshNormals = MeshNormals::kOutward;  ///< of cave.glb
 };
 
 }  // namespace cavesim

@@ -273,6 +273,8 @@ std::vector<ParamSection> makeRegistry() {
     using FB = FlowBlending;
     using MS = MeshStyle;
     using CE = CaveExtent;
+    using EF = ExportFormat;
+    using MN = MeshNormals;
     using PK = PlaneKind;
     std::vector<ParamSection> r;
 
@@ -553,6 +555,24 @@ std::vector<ParamSection> makeRegistry() {
                 "which voxels are the cave that is meshed, drawn and measured: the stage-2 channels, or the channels "
                 "and the stage-1 protochannels as 1-voxel side passages (the paper's Figures 10–12 show both kinds; "
                 "`docs/reproduction.md` gives Table 4 both ways). Does not change the simulation"),
+            choiceList("formats", &OutputOptions::formats,
+                       {{"glb", int(EF::kGlb)},
+                        {"vtk", int(EF::kVtk)},
+                        {"stl", int(EF::kStl)},
+                        {"svx", int(EF::kSvx)},
+                        {"th", int(EF::kTh)},
+                        {"gocad", int(EF::kGocad)},
+                        {"csv", int(EF::kCsv)},
+                        {"vdb", int(EF::kVdb)}},
+                       "formats",
+                       "files for other tools (README, \"Output files\"): `glb` cave.glb, `vtk` state.vti and "
+                       "skeleton.vtp, `stl` cave.stl, `svx` cave.svx, `th` cave.th, `gocad` cave.ts and skeleton.pl, "
+                       "`csv` history.csv and branches.csv, `vdb` cave.vdb; `cavesim run --formats` overrides. Mesh "
+                       "formats are skipped when `mesh` is false"),
+            choice("mesh_normals", &OutputOptions::meshNormals,
+                   {{"outward", int(MN::kOutward)}, {"inward", int(MN::kInward)}},
+                   "side the normals of cave.glb face: `inward` shows the walls from inside in renderers that cull "
+                   "back faces (games, walk-throughs); `cavesim run --mesh-normals` overrides"),
         }));
     return r;
 }

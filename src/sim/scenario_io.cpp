@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "sim/default_scenario.h"
 #include "sim/parameters.h"
+#include "sim/scenario_toml.h"
 
 namespace cavesim {
 namespace {
@@ -519,17 +520,6 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
     r.finish(known);
 }
 
-Scenario parseTable(const toml::table& root, const std::string& file) {
-    Scenario s;
-    s.path = file;
-    TableReader top(root, "", file);
-    ParseContext ctx{s, file};
-    const ParamSection& topSection = scenarioParameters().front();
-    readSection(topSection, root, top, &s, ctx);
-    validateScenario(s);
-    return s;
-}
-
 bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
     for (int c = 0; c < 3; ++c)
         if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
@@ -541,6 +531,17 @@ std::string where(const Scenario& s, int line) {
 }
 
 }  // namespace
+
+Scenario parseScenarioTable(const toml::table& root, const std::string& sourceName) {
+    Scenario s;
+    s.path = sourceName;
+    TableReader top(root, "", sourceName);
+    ParseContext ctx{s, sourceName};
+    const ParamSection& topSection = scenarioParameters().front();
+    readSection(topSection, root, top, &s, ctx);
+    validateScenario(s);
+    return s;
+}
 
 void validateScenario(const Scenario& s) {
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
@@ -592,7 +593,7 @@ Scenario parseScenarioString(std::string_view text, const std::string& sourceNam
         os << sourceName << ":" << e.source().begin.line << ": malformed TOML: " << e.description();
         throw InputError(os.str());
     }
-    return parseTable(root, sourceName);
+    return parseScenarioTable(root, sourceName);
 }
 
 Scenario parseScenarioFile(const std::string& path) {
@@ -702,7 +703,7 @@ void insertValue(toml::table& t, const Param& p, const ParamValue& v) {
 
 }  // namespace
 
-std::string scenarioToToml(const Scenario& s) {
+toml::table scenarioTable(const Scenario& s) {
     toml::table root;
     for (const ParamSection& section : scenarioParameters()) {
         if (section.isArray) {
@@ -722,8 +723,12 @@ std::string scenarioToToml(const Scenario& s) {
             for (const Param& p : section.params) insertValue(t, p, p.get(section.record(s, 0)));
         }
     }
+    return root;
+}
+
+std::string scenarioToToml(const Scenario& s) {
     std::ostringstream os;
-    os << "# Effective scenario: every key with its value, defaults filled in.\n" << root << "\n";
+    os << "# Effective scenario: every key with its value, defaults filled in.\n" << scenarioTable(s) << "\n";
     return os.str();
 }
 
