@@ -316,7 +316,7 @@ std::vector<ParamSection> makeRegistry() {
         {
             int3("size", &Scenario::size, rng(1, 1024), "`nx, ny, nz`")
                 .unitIs("voxels")
-                .rangeShown("each 1–1024, product ≤ 16 M (stage 2 needs about 300 bytes per voxel)"),
+                .rangeShown("each 1–1024; the run's memory is estimated and checked before it starts"),
             real("voxel_size", &Scenario::voxelSize, rng(1e-3, 1e4), "edge of one voxel; scales every output length")
                 .unitIs("m"),
         }));

@@ -516,15 +516,6 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
             TableReader cr(*t, child.path, ctx.file);
             readSection(child, *t, cr, child.mutableRecord(ctx.s, 0), ctx);
         }
-        if (&child == findParam(ctx.s, &ctx.s.size).first) {
-            const Scenario& s = ctx.s;
-            const double cells = double(s.size[0]) * s.size[1] * s.size[2];
-            if (cells > 16e6) {  // stage 2 holds about 300 bytes per voxel: 16 M voxels need about 5 GB
-                r.fail(key, table.get(key),
-                       scenarioKey(s, &s.size) + " gives " + std::to_string(long(cells)) +
-                           " voxels; at most 16,000,000 are allowed (stage 2 needs about 300 bytes per voxel)");
-            }
-        }
     }
     r.finish(known);
 }

@@ -93,6 +93,14 @@ TOML
 expect_exit 2 "stage 1 larger than the memory limit" -- bash -c "ulimit -v 1000000; exec \"$CAVESIM\" run bigzone.toml --out o11 -q"
 stderr_has "this process may use"
 [ ! -e o11 ] && pass "no output for the refused stage 1" || fail "o11 was created"
+# A block whose whole run would not fit is refused by the pre-flight estimate before any work
+# (10^8 voxels need several GB; the address space is capped at 2 GB); validate prints the estimate.
+sed -e 's/^size = \[128, 128, 128\]/size = [1000, 1000, 100]/' -e 's/^at = \[0, 0, 127\]/at = [0, 0, 99]/' bigzone.toml > huge.toml
+expect_exit 0 "validate prints the estimate" -- "$CAVESIM" validate huge.toml
+grep -q "peak memory about" stdout.txt && pass "estimate printed" || fail "no estimate: $(cat stdout.txt)"
+expect_exit 2 "run larger than the memory limit" -- bash -c "ulimit -v 2000000; exec \"$CAVESIM\" run huge.toml --out o13 -q"
+stderr_has "this process may use"
+[ ! -e o13 ] && pass "no output for the refused run" || fail "o13 was created"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"
