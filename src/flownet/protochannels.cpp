@@ -47,7 +47,7 @@ ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult&
         }
         return best;
     };
-    // A source voxel or tree voxel sharing a face with v, other than `from`; sources first, then
+    // A source voxel or tree voxel linked to v, other than `from`; sources first, then
     // the one sending v the most flow, then the lower id. −1 if none.
     const auto contact = [&](NodeId v, NodeId from) -> std::int64_t {
         std::int64_t best = -1;

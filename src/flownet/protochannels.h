@@ -20,8 +20,9 @@
 ///     so marking all walks would fill the zone; this is the flow-accumulation threshold by which
 ///     channel networks are extracted from terrain, and it makes the tree's tips end where a
 ///     branch gathers too little water.
-///  4. **Joining** (`joinOnContact`): a branch also ends as soon as the current voxel shares a
-///     face with a source voxel or a tree voxel other than the one it came from, and attaches
+///  4. **Joining** (`joinOnContact`): a branch also ends as soon as the current voxel is linked
+///     (a network neighbour: 26 or 6 per voxel, flow_network.h) to a source voxel or a tree voxel
+///     other than the one it came from, and attaches
 ///     there. A maximum flow on a grid fills many parallel paths; without this rule side-by-side
 ///     paths would each become a channel and fuse into a slab. With it channels are 1 voxel
 ///     thick and run side by side only where they join (a branch never continues along a channel
@@ -30,7 +31,7 @@
 ///     channel), except the tree's first branch.
 ///
 /// Only voxels that carry flow are marked, and every marked voxel drains into a source along
-/// `parent` links between face neighbours. The walk needs a cycle-free flow (`cancelFlowCycles`):
+/// `parent` links between network neighbours. The walk needs a cycle-free flow (`cancelFlowCycles`):
 /// positive-flow arcs then form a DAG and every walk ends. A walk that finds no upstream arc (a
 /// round-off remnant of flow) is abandoned.
 #pragma once
@@ -57,7 +58,7 @@ struct TraceOptions {
 };
 
 /// The traced tree. `parent[i]` is the node the voxel `nodes[i]` drains from: an earlier marked
-/// node or a source voxel node (the root). Parent and child share a face.
+/// node or a source voxel node (the root). Parent and child are network neighbours.
 struct ProtochannelTree {
     std::vector<NodeId> nodes;           ///< marked voxel nodes, in marking order
     std::vector<NodeId> parent;          ///< same order
