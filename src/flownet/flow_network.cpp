@@ -115,6 +115,7 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
     net.source = NodeId(n);
     net.sink = NodeId(n + 1);
     net.voxelOfNode = voxels;
+    net.dims = d;
     net.sources = nodesOf(voxels, sources, "source");
     net.protosinks = nodesOf(voxels, protosinks, "protosink");
     std::vector<std::uint8_t> role(n, kPlain);
@@ -201,7 +202,7 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
             if (options.resistanceJitter > 0) {
                 const std::size_t a = std::min(voxels[i], voxels[std::size_t(j)]);
                 const std::size_t b = std::max(voxels[i], voxels[std::size_t(j)]);
-                net.resistance[e] *= 1.0 + options.resistanceJitter * unitHash(a, b, options.jitterSeed);
+                net.resistance[e] *= std::exp(2.0 * options.resistanceJitter * (2.0 * unitHash(a, b, options.jitterSeed) - 1.0));
             }
             total += c;
             ++e;

@@ -56,6 +56,8 @@ struct FlowNetwork {
     /// Linear voxel index (in the grid the network was built from) of each voxel node, strictly
     /// increasing. Empty for networks made by `flowNetworkFromArcs`.
     std::vector<std::size_t> voxelOfNode;
+    /// The grid `voxelOfNode` indexes (zero for networks made by `flowNetworkFromArcs`).
+    Dims dims;
     std::vector<ArcId> arcBegin;    ///< arcs of node n: [arcBegin[n], arcBegin[n + 1]); size nodes + 1
     std::vector<NodeId> arcTarget;  ///< head of each arc
     std::vector<double> capacity;   ///< capacity of each arc, ≥ 0 (R^exponent / L between voxels)

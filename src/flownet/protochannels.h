@@ -9,9 +9,17 @@
 ///
 ///  1. Protosinks that receive flow are taken in order of decreasing inflow (ties: lower node),
 ///     so the strongest branches are traced first and weaker ones join them.
-///  2. From a protosink the walk steps to the neighbour whose arc into the current voxel carries
-///     the most flow (ties: lower node), again and again, until it reaches a source voxel or a
-///     voxel already in the tree. The protosink itself is never marked: it is the zone's edge, so
+///  2. From a protosink the walk steps upstream, against the flow, again and again, until it
+///     reaches a source voxel or a voxel already in the tree. Each step goes to a neighbour whose
+///     arc into the current voxel carries flow. Which one (`followFlowDirection`, networks built
+///     on a grid): the walk keeps a heading, the mean direction of the flow through the voxels it
+///     has passed (each voxel's flow vector: Σ over its arcs of |flow| × the arc's unit vector,
+///     downstream; the heading is updated as h ← normalise(h + flow direction / 2)), and a point that
+///     advances one voxel per step along the heading's longest axis (a digital line, as Bresenham
+///     draws one); it steps to the upstream neighbour nearest that point (ties: more flow, then
+///     lower node). So a channel runs straight along the flow in any direction, not in the few
+///     directions of the links: with the plain rule (the neighbour sending the most flow, ties:
+///     lower node), trunks gather along the 26 link directions. The protosink itself is never marked: it is the zone's edge, so
 ///     (with every boundary voxel a protosink or left out of the network, as stage 1 builds it)
 ///     channels of neighbouring zones never touch.
 ///  3. **Gathering** (`minThroughFraction`): voxels through which less than this fraction of the
@@ -55,6 +63,9 @@ struct TraceOptions {
     int minBranchVoxels = 1;
     /// Rule 4; switching it off leaves the plain walk (for comparison and tests).
     bool joinOnContact = true;
+    /// Rule 2: walk along the flow's direction (needs a network built on a grid; networks from
+    /// `flowNetworkFromArcs` always take the most flow).
+    bool followFlowDirection = true;
 };
 
 /// The traced tree. `parent[i]` is the node the voxel `nodes[i]` drains from: an earlier marked

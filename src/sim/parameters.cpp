@@ -486,6 +486,12 @@ std::vector<ParamSection> makeRegistry() {
                  "random relative variation of link resistance (sub-voxel heterogeneity, from `seed`); it breaks the "
                  "ties between the equally short staircase paths of the voxel grid, which otherwise run along the grid "
                  "axes. 0 = none"),
+            integer("sink_gap", &Stage1Options::sinkGap, rng(1, 64),
+                    "rock kept between protochannels and sinks: voxels within this distance of a sink voxel (along "
+                    "any of the 26 neighbour directions: the largest of |dx|, |dy|, |dz|) are left out of the flow "
+                    "networks, so stage 2 starts with every source cut off from the sinks; an `aim` point within it is "
+                    "refused")
+                .unitIs("voxels"),
         }));
     s1.prose =
         "Stage 1 divides the block into pressure zones (one per source, by fast marching), solves a flow\n"
