@@ -15,9 +15,9 @@
 #include "render/pictures.h"
 #include "render/png_io.h"
 #include "sim/cave.h"
+#include "sim/connectivity.h"
 #include "sim/domain.h"
 #include "sim/scenario_io.h"
-#include "sim/connectivity.h"
 #include "sim/stage1.h"
 #include "sim/stage2.h"
 

@@ -202,7 +202,8 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
             if (options.resistanceJitter > 0) {
                 const std::size_t a = std::min(voxels[i], voxels[std::size_t(j)]);
                 const std::size_t b = std::max(voxels[i], voxels[std::size_t(j)]);
-                net.resistance[e] *= std::exp(2.0 * options.resistanceJitter * (2.0 * unitHash(a, b, options.jitterSeed) - 1.0));
+                net.resistance[e] *=
+                    std::exp(2.0 * options.resistanceJitter * (2.0 * unitHash(a, b, options.jitterSeed) - 1.0));
             }
             total += c;
             ++e;

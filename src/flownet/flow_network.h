@@ -86,7 +86,7 @@ enum class LinkStencil {
 
 struct FlowNetworkOptions {
     LinkStencil links = LinkStencil::kAll26;  ///< which neighbours are linked
-    double capacityExponent = 1.0;  ///< arc capacity = min(R_a, R_b)^exponent; (0, 8]
+    double capacityExponent = 1.0;            ///< arc capacity = min(R_a, R_b)^exponent; (0, 8]
     /// Networks with more voxel nodes are refused (std::length_error) before anything is
     /// allocated; callers check first and name their own limit. [1, 2^32 − 3]
     std::size_t maxNodes = 4000000;

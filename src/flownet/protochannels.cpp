@@ -109,8 +109,8 @@ ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult&
         if (best >= 0) {
             // Keep the point on its line while the walk follows it; start afresh where it could not.
             const Vec3d pu = position(NodeId(best));
-            const double off = std::max({std::abs(pu[0] - target[0]), std::abs(pu[1] - target[1]),
-                                         std::abs(pu[2] - target[2])});
+            const double off =
+                std::max({std::abs(pu[0] - target[0]), std::abs(pu[1] - target[1]), std::abs(pu[2] - target[2])});
             point = off <= 0.5 ? target : pu;
         }
         return best;

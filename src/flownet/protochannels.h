@@ -19,9 +19,9 @@
 ///     draws one); it steps to the upstream neighbour nearest that point (ties: more flow, then
 ///     lower node). So a channel runs straight along the flow in any direction, not in the few
 ///     directions of the links: with the plain rule (the neighbour sending the most flow, ties:
-///     lower node), trunks gather along the 26 link directions. The protosink itself is never marked: it is the zone's edge, so
-///     (with every boundary voxel a protosink or left out of the network, as stage 1 builds it)
-///     channels of neighbouring zones never touch.
+///     lower node), trunks gather along the 26 link directions. The protosink itself is never marked: it is the zone's
+///     edge, so (with every boundary voxel a protosink or left out of the network, as stage 1 builds it) channels of
+///     neighbouring zones never touch.
 ///  3. **Gathering** (`minThroughFraction`): voxels through which less than this fraction of the
 ///     total flow passes are walked over but not marked; a branch begins where the walk first
 ///     meets enough flow. A flow that reaches every protosink passes through nearly every voxel,

@@ -61,11 +61,11 @@ namespace cavesim::morpho {
 /// The network metrics of Collon et al. 2017 (`report.json` "graph_metrics"). A metric that is undefined
 /// for the graph (e.g. `r_k` without edges, `cv_len` of one branch) is empty and serialised as null.
 struct GraphMetrics {
-    std::optional<double> k_mean;      ///< mean degree of the reduced graph
-    std::optional<double> r_k;         ///< degree assortativity of the reduced graph, in [−1, 1]
-    std::optional<double> spl;         ///< mean shortest-path length of the reduced graph, hops
-    std::optional<double> cpd;         ///< central point dominance of the reduced graph, in [0, 1]
-    std::optional<double> h_or;        ///< orientation entropy of the skeleton edges, in [0, 1]
+    std::optional<double> k_mean;  ///< mean degree of the reduced graph
+    std::optional<double> r_k;     ///< degree assortativity of the reduced graph, in [−1, 1]
+    std::optional<double> spl;     ///< mean shortest-path length of the reduced graph, hops
+    std::optional<double> cpd;     ///< central point dominance of the reduced graph, in [0, 1]
+    std::optional<double> h_or;    ///< orientation entropy of the skeleton edges, in [0, 1]
     /// share of horizontal edge length within 5° of the x or y axis, in [0, 1] (grid bias)
     std::optional<double> axis_aligned_share;
     std::optional<double> len_mean_m;  ///< mean branch length, metres
@@ -119,8 +119,8 @@ GraphMetrics computeGraphMetrics(const Skeleton& skeleton);
 /// @throw cavesim::InternalError on an invalid skeleton or tolerance
 std::optional<double> axisAlignedShare(const Skeleton& skeleton, double toleranceDeg = 5.0);
 
-/// {"k_mean", "r_k", "spl", "cpd", "h_or", "axis_aligned_share", "len_mean_m", "cv_len", "h_len", "tortuosity", the counts};
-/// undefined metrics are null.
+/// {"k_mean", "r_k", "spl", "cpd", "h_or", "axis_aligned_share", "len_mean_m", "cv_len", "h_len", "tortuosity", the
+/// counts}; undefined metrics are null.
 nlohmann::json toJson(const GraphMetrics& m);
 
 }  // namespace cavesim::morpho

@@ -586,8 +586,8 @@ void validateScenario(const Scenario& s) {
                     dist = std::max({dist, double(s.sinks[j].box.lo[c]) - p[c], p[c] - double(s.sinks[j].box.hi[c])});
                 if (dist > s.stage1.sinkGap) continue;
                 std::ostringstream os;
-                os << s.path << ": key '" << scenarioKey(s, &s.stage1.aim) << "' point " << a + 1 << " = ["
-                   << p[0] << ", " << p[1] << ", " << p[2] << "] lies "
+                os << s.path << ": key '" << scenarioKey(s, &s.stage1.aim) << "' point " << a + 1 << " = [" << p[0]
+                   << ", " << p[1] << ", " << p[2] << "] lies "
                    << (dist <= 0 ? std::string("inside") : "within " + std::to_string(s.stage1.sinkGap) + " voxels of")
                    << " " << sink.header() << " entry " << j + 1 << " (line " << s.sinks[j].line
                    << "): an aim point must be more than '" << scenarioKey(s, &s.stage1.sinkGap)

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -20,8 +20,8 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
-#include "core/timer.h"
 #include "core/memory.h"
+#include "core/timer.h"
 #include "fastmarch/fast_marching.h"
 #include "flownet/flow_network.h"
 #include "flownet/max_flow.h"
@@ -246,18 +246,19 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     {
         std::vector<long> sizes(result.zoneVoxels.begin(), result.zoneVoxels.end());
         std::sort(sizes.begin(), sizes.end(), std::greater<>());
-        const std::size_t atOnce = std::min<std::size_t>(sizes.size(), std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
+        const std::size_t atOnce =
+            std::min<std::size_t>(sizes.size(), std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
         double need = 0;
         for (std::size_t k = 0; k < atOnce; ++k) need += double(sizes[k]) * kBytesPerVoxel;
         const double limit = memoryLimitBytes();
         if (limit > 0 && need > 0.8 * limit)
-            throw Stage1LimitError("stage 1 would need about " + withThousands(long(need / 1e6)) +
-                             " MB for the flow networks of its " + std::to_string(atOnce) +
-                             " largest pressure zone(s) solved at once, more than 80 % of the " +
-                             withThousands(long(limit / 1e6)) +
-                             " MB this process may use; make the domain smaller, add sources to split it into "
-                             "smaller zones, or run with fewer threads (--threads)",
-                                   -1);
+            throw Stage1LimitError(
+                "stage 1 would need about " + withThousands(long(need / 1e6)) + " MB for the flow networks of its " +
+                    std::to_string(atOnce) + " largest pressure zone(s) solved at once, more than 80 % of the " +
+                    withThousands(long(limit / 1e6)) +
+                    " MB this process may use; make the domain smaller, add sources to split it into "
+                    "smaller zones, or run with fewer threads (--threads)",
+                -1);
     }
 
     // 2. Sources and protosinks per zone, in the zone's canonical mirror frame (sequential: the
