@@ -22,7 +22,7 @@
 /// **Resistance** (the cost of a unit of flow, for the least-resistance max flow of max_flow.h)
 /// is the inverse of the capacity, `L / min(R_a, R_b)^exponent` — a link's capacity is its
 /// conductance, and a path's resistance in uniform rock is its Euclidean length along the links —
-/// times `1 + resistanceJitter · u` with u a seeded hash of the pair.
+/// times `e^(2·resistanceJitter·(2u − 1))` with u a seeded hash of the pair.
 ///
 /// **Terminals.** The super-source has an arc of capacity `terminalCapacity` (larger than the
 /// sum of all voxel-arc capacities, so it never binds) to every source voxel. Every protosink has
@@ -94,10 +94,12 @@ struct FlowNetworkOptions {
     /// summed capacity of the arcs leaving the source voxels), split among the protosinks in
     /// proportion to R^exponent. 0 = unlimited (terminalCapacity). [0, 1e6]
     double protosinkShare = 0.0;
-    /// Relative random variation of the link resistances: resistance × (1 + jitter·u), u uniform
+    /// Random variation of the link resistances: resistance × e^(2·jitter·(2u − 1)), u uniform
     /// in [0, 1) from a hash of the two voxels and `jitterSeed` (unresolved sub-voxel
-    /// heterogeneity). It breaks the ties among the equally short staircase paths of a 6-neighbour
-    /// grid, which otherwise leave least-resistance routes running along grid axes. [0, 1]
+    /// heterogeneity). Lattice paths whose direction lies between the link directions tie; a
+    /// weak variation leaves the least-resistance routes gathered along the link directions
+    /// (the grid axes and diagonals), a log-uniform one spread over a factor e² (jitter 0.5)
+    /// lets them run in any direction. [0, 1]
     double resistanceJitter = 0.0;
     std::uint64_t jitterSeed = 0;  ///< seed of the resistance jitter
 };

@@ -483,9 +483,10 @@ std::vector<ParamSection> makeRegistry() {
                  "smaller values give more, longer branches reaching closer to the zone boundary; 0 marks every traced "
                  "path"),
             real("resistance_noise", &Stage1Options::resistanceNoise, rng(0, 1),
-                 "random relative variation of link resistance (sub-voxel heterogeneity, from `seed`); it breaks the "
-                 "ties between the equally short staircase paths of the voxel grid, which otherwise run along the grid "
-                 "axes. 0 = none"),
+                 "random variation of link resistance (sub-voxel heterogeneity, from `seed`): a factor e^(2·noise·(2u "
+                 "− 1)), u uniform in [0, 1), so 0.5 gives factors between 1/e and e. Lattice paths in directions "
+                 "between the 26 link directions tie; without enough noise the least-resistance routes gather along "
+                 "the link directions and the protochannels follow the grid. 0 = none"),
             integer("sink_gap", &Stage1Options::sinkGap, rng(1, 64),
                     "rock kept between protochannels and sinks: voxels within this distance of a sink voxel (along "
                     "any of the 26 neighbour directions: the largest of |dx|, |dy|, |dz|) are left out of the flow "
