@@ -462,10 +462,10 @@ std::vector<ParamSection> makeRegistry() {
                  "porosity shown along protochannels after stage 1 (display erosion, never lowered; reset by the "
                  "interim step)"),
             real("capacity_exponent", &Stage1Options::capacityExponent, rng(0, 8, "(]"),
-                 "flow-network edge capacity = (smaller porosity of the two voxels)^exponent; its resistance is 1 / "
-                 "capacity"),
+                 "flow-network edge capacity = (smaller porosity of the two voxels)^exponent / edge length (1, √2 or "
+                 "√3: the 26 neighbours); its resistance is 1 / capacity"),
             integer("max_graph_voxels", &Stage1Options::maxGraphVoxels, rng(1, 1e9),
-                    "a larger zone is refused with an error before any network is built (a network needs about 450 "
+                    "a larger zone is refused with an error before any network is built (a network needs about 1,700 "
                     "bytes per voxel)")
                 .unitIs("voxels"),
             choiceList("boundary_faces", &Stage1Options::boundaryFaces, faces, "grid faces",

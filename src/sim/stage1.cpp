@@ -31,8 +31,8 @@
 namespace cavesim {
 namespace {
 
-/// Peak heap bytes per zone voxel of network and solver (measured: about 1,500 on 26-neighbour zones).
-constexpr double kBytesPerVoxel = 1600;
+/// Peak heap bytes per zone voxel of network and solver (measured: about 1,650 on 26-neighbour zones).
+constexpr double kBytesPerVoxel = 1700;
 
 flownet::GridFaces gridFaces(const std::vector<GridFace>& list) {
     flownet::GridFaces faces{};
