@@ -15,6 +15,7 @@
 #include "render/pictures.h"
 #include "render/png_io.h"
 #include "sim/cave.h"
+#include "sim/connectivity.h"
 #include "sim/domain.h"
 #include "sim/scenario_io.h"
 #include "sim/stage1.h"
@@ -67,6 +68,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     if (s.stage2.enabled) {
         const Stopwatch t2;
         prepareStage2(dom, s.stage2);
+        rec.connectedAtStart = sourcesConnectedAtStart(dom);
         // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
         // reduced as it is taken, so the frames kept for the strip stay small at any image width.
         constexpr int kPerRow = 6, kStripWidth = 8192;

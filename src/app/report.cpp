@@ -204,6 +204,7 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["stage1"] = rec.stage1 ? stage1Json(*rec.stage1) : nlohmann::json(nullptr);
     j["stage2"] =
         rec.stage2 ? stage2Json(*rec.stage2, s.voxelSize * s.voxelSize * s.voxelSize) : nlohmann::json(nullptr);
+    if (rec.stage2 && rec.connectedAtStart) j["stage2"]["connected_at_start"] = *rec.connectedAtStart;
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
@@ -254,7 +255,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     }
     const auto& st2 = at(r, "stage2");
     if (!st2.is_null()) {
-        md << "- Stage 2: " << fmt(at(st2, "iterations")) << " iterations; breakthrough at iteration "
+        md << "- Stage 2: " << fmt(at(st2, "iterations")) << " iterations; sources joined to a sink at the start "
+           << fmt(at(st2, "connected_at_start")) << "; breakthrough at iteration "
            << fmt(at(st2, "breakthrough_iteration"))
            << "; iteration at which each source joined a sink: " << at(st2, "source_connected_iteration").dump()
            << ".\n";

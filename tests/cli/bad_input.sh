@@ -24,6 +24,13 @@ sed 's/^at = \[4, 0, 11\]/at = [15, 0, 3]/' good.toml > overlap.toml
 expect_exit 2 "source overlaps sink" -- "$CAVESIM" validate overlap.toml
 stderr_has "overlaps"
 
+# The shipped Figure 12 with its old aim point, inside the sink box: stage 1 keeps rock around sinks.
+sed 's/^aim = .*/aim = [[69, 25, 4], [30, 25, 5]]/' "$SRC/scenarios/fig12.toml" > aim_in_sink.toml
+expect_exit 2 "aim point inside a sink" -- "$CAVESIM" run aim_in_sink.toml --out o7
+stderr_has "aim_in_sink.toml: key 'stage1.aim' point 1 = [69, 25, 4] lies inside [[sink]] entry 1"
+stderr_has "'stage1.sink_gap' = 2"
+[ ! -e o7 ] && pass "no output dir for an aim point in a sink" || fail "o7 was created"
+
 grep -v -e '^\[\[sink\]\]' -e '^box' good.toml > nosink.toml
 expect_exit 2 "stage 2 without sinks" -- "$CAVESIM" run nosink.toml --out o4
 stderr_has "stage 2 needs at least one [[sink]]"
