@@ -79,6 +79,12 @@ nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
             {"source_connected_iteration", perSource},
             {"water_balance_rel_error", num(r.waterBalanceRelError)},
             {"water_injected", num(r.totalInjected)},
+            {"source_water_injected",
+             [&] {
+                 nlohmann::json a = nlohmann::json::array();
+                 for (double x : r.sourceInjected) a.push_back(num(x));
+                 return a;
+             }()},
             {"water_drained", num(r.totalDrained)},
             {"pressure_cap", num(r.pressureCap)},
             {"seconds_pressure", num(r.pressureSeconds)},

@@ -46,6 +46,18 @@ enum class FlowBlending : std::uint8_t {
     kSplit,  ///< each voxel's f_c split equally over its uphill neighbours
 };
 
+/// How a voxel's stage-2 pressure rate follows its state (docs/model.md, "Pressure rate").
+enum class RateRule : std::uint8_t {
+    kPorosity,     ///< from rock to channel with the porosity: protochannels are preferred, not finished
+    kChannelFlag,  ///< the paper's rule: the channel rate on channel and protochannel voxels, else the rock rate
+};
+
+/// How much water a source takes in each iteration (docs/model.md, "Source inflow").
+enum class SourceInflow : std::uint8_t {
+    kHead,   ///< from its head above the field pressure at the source: stronger heads and breakthrough raise it
+    kLevel,  ///< refill to a fixed level, its pressure / the largest source pressure
+};
+
 /// Which voxels make up the cave (mesh, pictures, report).
 enum class CaveExtent : std::uint8_t {
     kChannels,           ///< the stage-2 channels (protochannels only when there are none)
@@ -100,14 +112,17 @@ struct Stage2Options {
     double w0 = 0.15;             ///< erosion factor (Eq. 1)
     double wa = 0.25;             ///< blending factor (Eq. 2)
     double m = 1.0;               ///< erosion exponent (Eq. 1)
-    /// Stage-2 pressure of a source = its `pressure` × this; 0 = automatic:
-    /// 2 · pRate · (nx + ny + nz), well above anything the front reaches. [0, 1e9]
+    /// Stage-2 pressure (head) of a source = its `pressure` × this; 0 = automatic: the strongest
+    /// source's head is 2 · pRate · (nx + ny + nz), well above anything the front reaches, and the
+    /// others in proportion to their `pressure`.
     double pressureScale = 0.0;
     double channelThreshold = 0.5;       ///< porosity at which an eroded voxel becomes channel
     double protochannelPorosity = 0.25;  ///< porosity of protochannel voxels at the interim step
     double sourcePorosity = 0.1;         ///< porosity (= water injected per iteration at most) of sources
     TransportWeight weight = TransportWeight::kProportional;
     FlowBlending blending = FlowBlending::kMax;
+    RateRule rateRule = RateRule::kPorosity;
+    SourceInflow inflow = SourceInflow::kHead;
     std::vector<int> snapshots;  ///< iterations at which pictures are taken, at most 32
 };
 

@@ -275,6 +275,8 @@ std::vector<ParamSection> makeRegistry() {
     using CE = CaveExtent;
     using EF = ExportFormat;
     using MN = MeshNormals;
+    using RR = RateRule;
+    using SI = SourceInflow;
     using PK = PlaneKind;
     std::vector<ParamSection> r;
 
@@ -514,8 +516,10 @@ std::vector<ParamSection> makeRegistry() {
             real("wa", &Stage2Options::wa, rng(0, 100), "blending factor of Eq. 2"),
             real("m", &Stage2Options::m, rng(0, 4, "(]"), "erosion exponent of Eq. 1"),
             real("pressure_scale", &Stage2Options::pressureScale, rng(0, 1e9),
-                 "stage-2 pressure of a source = its `pressure` × this; 0 = automatic, 2 · `p_rate` · (nx + ny + nz), "
-                 "far above anything the front reaches, so the cap never flattens the field where channels grow")
+                 "stage-2 pressure (head) of a source = its `pressure` × this; the strongest head caps the pressure "
+                 "front. 0 = automatic: the strongest head is 2 · `p_rate` · (nx + ny + nz), far above anything the "
+                 "front reaches, so the cap never flattens the field where channels grow, and the other heads are in "
+                 "proportion to their `pressure`")
                 .unitIs("pressure")
                 .defaultShown("0 (auto)"),
             real(
@@ -537,6 +541,17 @@ std::vector<ParamSection> makeRegistry() {
                 "flow blending of Eq. 2: `f_a` of a voxel is the largest `f_c` among its lower-pressure neighbours (a "
                 "wall feels the flow of the channel beside it), or the sum of the shares of `f_c` that each lower "
                 "neighbour splits equally over its higher-pressure neighbours"),
+            choice("rate_rule", &Stage2Options::rateRule,
+                   {{"porosity", int(RR::kPorosity)}, {"channel_flag", int(RR::kChannelFlag)}},
+                   "pressure rate of a voxel: `porosity` goes from `p_rate` to `p_rate_channel` geometrically as the "
+                   "porosity rises from its initial value to `channel_threshold`, in 16 steps, so a protochannel is a "
+                   "preferred path that stage 2 still has to open; `channel_flag` is the paper's rule, "
+                   "`p_rate_channel` on channel and protochannel voxels from the start (docs/model.md)"),
+            choice("inflow", &Stage2Options::inflow, {{"head", int(SI::kHead)}, {"level", int(SI::kLevel)}},
+                   "water a source voxel takes in each iteration: `head` refills it to the fraction (head − field "
+                   "pressure at the voxel) / the largest head of its porosity, so a stronger source and a channel "
+                   "that lowers the pressure at the source both raise the discharge; `level` refills it to "
+                   "`pressure` / the largest source pressure whatever the field (docs/model.md)"),
             intList("snapshots", &Stage2Options::snapshots, rng(0, 1e6),
                     "iterations after which a picture of the state is written (`images/iter_NNNN.png`, combined in "
                     "`images/sequence.png`: up to 6 frames a row, at most 8192 pixels wide)")

@@ -418,10 +418,36 @@ std::size_t growActiveTiles(Stage2State& st) {
     return st.activeTiles.size() - before;
 }
 
+float porosityRate(float R, float R0, const Stage2Options& g) {
+    constexpr int kSteps = 16;
+    const double T = g.channelThreshold;
+    double s;
+    if (double(R0) >= T)
+        s = R > R0 ? 1.0 : 0.0;
+    else if (!(R > R0))
+        s = 0.0;
+    else if (R0 > 0)
+        s = std::clamp(std::log(double(R) / double(R0)) / std::log(T / double(R0)), 0.0, 1.0);
+    else
+        s = double(R) >= T ? 1.0 : 0.0;
+    const int step = int(std::floor(s * kSteps));
+    if (step >= kSteps) return float(g.pRateChannel);
+    if (step <= 0) return float(g.pRate);
+    return float(g.pRate * std::pow(g.pRateChannel / g.pRate, double(step) / kSteps));
+}
+
 Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
     Grid3<float> rate(dom.dims, float(g.pRate));
-    for (std::size_t v = 0; v < rate.size(); ++v)
-        if (dom.flags[v] & kLowRate) rate[v] = float(g.pRateChannel);
+    const bool byPorosity = g.rateRule == RateRule::kPorosity;
+    // [[rock.channel]] conduits are given open (the paper's synthetic protochannels of Figures 8–9);
+    // stage-1 protochannels follow their porosity.
+    const std::uint8_t low = byPorosity ? std::uint8_t(kChannel | kOpen | kFeatureChannel) : kLowRate;
+    for (std::size_t v = 0; v < rate.size(); ++v) {
+        if (dom.flags[v] & low)
+            rate[v] = float(g.pRateChannel);
+        else if (byPorosity && (dom.flags[v] & kProtochannel))
+            rate[v] = porosityRate(dom.porosity[v], dom.porosity0[v], g);
+    }
     return rate;
 }
 
@@ -469,17 +495,27 @@ std::vector<Refill> refillLevels(const Domain& dom) {
     for (double p : dom.sourcePressure) pmax = std::max(pmax, p);
     std::vector<Refill> refill;
     for (std::size_t si = 0; si < dom.sourceVoxels.size(); ++si)
-        for (std::size_t v : dom.sourceVoxels[si]) refill.push_back({v, dom.sourcePressure[si] / pmax});
+        for (std::size_t v : dom.sourceVoxels[si]) {
+            const double h = dom.sourcePressure[si] / pmax;
+            refill.push_back({v, h, int(si), h});
+        }
     return refill;
 }
 
-double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage2State& st) {
+void headLevels(const Grid3<double>& P, double cap, std::vector<Refill>& levels) {
+    for (Refill& r : levels) r.level = std::clamp(r.head - P[r.voxel] / cap, 0.0, 1.0);
+}
+
+double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage2State& st,
+                     std::vector<double>* perSource) {
     double injected = 0;
     bool grown = false;
-    for (const auto& [v, level] : levels) {
-        const double target = level * dom.porosity[v];
+    for (const Refill& r : levels) {
+        const std::size_t v = r.voxel;
+        const double target = r.level * dom.porosity[v];
         if (st.water[v] < target) {
             injected += target - st.water[v];
+            if (perSource) (*perSource)[std::size_t(r.source)] += target - st.water[v];
             st.water[v] = target;
         }
         if (st.water[v] > 0) grown = wetTile(st, tileOf(st, v)) || grown;
@@ -714,6 +750,7 @@ inline void channelRule(Domain& dom, const Stage2Options& g, std::size_t v, Grid
 double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>& rate,
              std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting) {
     const float threshold = float(g.channelThreshold);
+    const bool byPorosity = g.rateRule == RateRule::kPorosity;
     const Dims& d = dom.dims;
     std::vector<std::vector<std::size_t>> fresh(st.activeTiles.size()), conducting(st.activeTiles.size());
     forEachTile(st, [&](const TileCtx& c) {
@@ -737,6 +774,13 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
                 if (dR > 0) {
                     dom.porosity[v] = std::min(1.f, float(double(R) + dR));
                     st.erodedHere[p] = double(dom.porosity[v]) - double(R);
+                    if (byPorosity && (dom.flags[v] & kProtochannel)) {
+                        const float r = porosityRate(dom.porosity[v], dom.porosity0[v], g);
+                        if (r < rate[v]) {
+                            rate[v] = r;
+                            fresh[c.slot].push_back(v);
+                        }
+                    }
                 }
             }
             channelRule(dom, g, v, rate, threshold, fresh[c.slot], conducting[c.slot]);
@@ -825,12 +869,13 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
 using namespace stage2;
 
 double stage2PressureCap(const Domain& dom, const Stage2Options& g) {
+    // Automatic: the strongest source's head is 2 · pRate · (nx + ny + nz) whatever its `pressure`,
+    // so only ratios of source pressures (and of rates) shape the result.
+    if (!(g.pressureScale > 0)) return 2.0 * g.pRate * double(dom.dims.nx + dom.dims.ny + dom.dims.nz);
     double pmax = 0;
     for (double p : dom.sourcePressure) pmax = std::max(pmax, p);
     if (pmax <= 0) pmax = 1;
-    const double scale =
-        g.pressureScale > 0 ? g.pressureScale : 2.0 * g.pRate * double(dom.dims.nx + dom.dims.ny + dom.dims.nz);
-    return pmax * scale;
+    return pmax * g.pressureScale;
 }
 
 void prepareStage2(Domain& dom, const Stage2Options& g) {
@@ -864,7 +909,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     Stage2Result res;
     res.pressureCap = stage2PressureCap(dom, g);
     res.sourceConnectedIteration.assign(dom.sourceVoxels.size(), std::nullopt);
-    const std::vector<Refill> refill = refillLevels(dom);
+    std::vector<Refill> refill = refillLevels(dom);
+    const bool byHead = g.inflow == SourceInflow::kHead;
+    res.sourceInjected.assign(dom.sourceVoxels.size(), 0.0);
 
     Grid3<float> rate = rateField(dom, g);
     fastmarch::EikonalField pressure;
@@ -886,7 +933,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         const Grid3<double>& P = pressure.value();
 
         const Stopwatch tt;
-        rec.injected = refillSources(dom, refill, st);
+        if (byHead) headLevels(P, res.pressureCap, refill);
+        rec.injected = refillSources(dom, refill, st, &res.sourceInjected);
         computeOffers(dom, P, g.weight, st);
         computeAcceptance(dom, P, g.weight, st);
         std::tie(rec.flow, rec.drained) = moveWater(dom, P, g.weight, st);

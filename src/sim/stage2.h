@@ -59,7 +59,8 @@ struct Stage2Result {
     std::vector<std::optional<int>> sourceConnectedIteration;  ///< per source, scenario order
     double waterBalanceRelError = 0;  ///< |stored_end − stored_0 − (injected − drained)| / injected
     double totalInjected = 0, totalDrained = 0;
-    double pressureCap = 0;  ///< the source pressure used as cap
+    std::vector<double> sourceInjected;  ///< water injected by each source over the run, scenario order
+    double pressureCap = 0;              ///< the source pressure used as cap
     std::vector<Stage2Record> history;
     double seconds = 0;
     double pressureSeconds = 0, transportSeconds = 0, erosionSeconds = 0;
@@ -79,8 +80,9 @@ using SnapshotFn = std::function<void(int iteration, const Domain& domain)>;
 /// `[[rock.channel]]`.
 void prepareStage2(Domain& domain, const Stage2Options& options);
 
-/// The stage-2 pressure cap: the largest source pressure × `options.pressureScale`, or, when that
-/// is 0, × 2 · pRate · (nx + ny + nz).
+/// The stage-2 pressure cap, the head of the strongest source: the largest source pressure ×
+/// `options.pressureScale`, or, when that is 0, 2 · pRate · (nx + ny + nz) (whatever the source
+/// pressures: only their ratios matter then).
 double stage2PressureCap(const Domain& domain, const Stage2Options& options);
 
 /// Runs the stage-2 iterations on a prepared domain.

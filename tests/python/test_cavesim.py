@@ -3,6 +3,7 @@ NumPy views in the documented axis order. Run by CTest (python.pytest) with PYTH
 build tree's python/ folder, CAVESIM_BINARY and CAVESIM_SOURCE_DIR in the environment."""
 import gc
 import os
+import json
 import subprocess
 
 import numpy as np
@@ -40,6 +41,8 @@ def test_state_is_byte_identical_to_the_command(tmp_path, result):
     assert out.returncode == 0, out.stderr
     result.write_state(tmp_path / "state.vdb")
     assert (tmp_path / "state.vdb").read_bytes() == (tmp_path / "cli" / "state.vdb").read_bytes()
+    cli_report = json.loads((tmp_path / "cli" / "report.json").read_text())
+    assert result.report["stage2"]["breakthrough_iteration"] == cli_report["stage2"]["breakthrough_iteration"]
     r = cavesim.run(cavesim.Scenario.from_toml(SMALL), threads=1, mesh=False, analysis=False,
                     stage1_state=tmp_path / "stage1.vdb")
     assert (tmp_path / "stage1.vdb").read_bytes() == (tmp_path / "cli" / "stage1.vdb").read_bytes()
@@ -125,7 +128,7 @@ def test_input_errors_carry_the_commands_message(tmp_path):
 def test_report_skeleton_and_mesh(result):
     rep = result.report
     assert rep["scenario"] == "small3d" and rep["grid"] == [24, 24, 8] and rep["threads"] == 2
-    assert rep["stage2"]["breakthrough_iteration"] == 120
+    assert 0 < rep["stage2"]["breakthrough_iteration"] <= rep["stage2"]["iterations"]
     assert rep["network"]["sources_connected"] == 2
     sk = result.skeleton
     assert sk.nodes.shape == (rep["skeleton"]["nodes"], 3) and sk.edges.shape == (rep["skeleton"]["edges"], 2)

@@ -67,8 +67,8 @@ TEST(Stage2Steps, RefillLevelsFollowSourcePressure) {
     d.sourcePressure = {1.0, 2.0};
     const std::vector<Refill> levels = refillLevels(d);
     ASSERT_EQ(levels.size(), 2u);
-    EXPECT_DOUBLE_EQ(levels[0].second, 0.5);  // 1 / 2
-    EXPECT_DOUBLE_EQ(levels[1].second, 1.0);
+    EXPECT_DOUBLE_EQ(levels[0].level, 0.5);  // 1 / 2
+    EXPECT_DOUBLE_EQ(levels[1].level, 1.0);
     Stage2State st(d.dims);
     st.water[0] = 0.02;  // below 0.5 · 0.1 = 0.05: filled up by 0.03
     st.water[3] = 0.2;   // above its level 0.1: left alone
@@ -230,6 +230,84 @@ TEST(Stage2Steps, ErosionFollowsEq1) {
     fresh.clear();
     erode(e, g, s2, rate2, fresh, conducting);
     EXPECT_FLOAT_EQ(e.porosity[0], float(0.05f + 0.15 * 0.425 * 0.425));
+}
+
+// The porosity rate of a protochannel (docs/model.md, "Pressure rate"): s = ln(R / R0) / ln(T / R0)
+// taken down to a multiple of 1/16, rate = pRate · (pRateChannel / pRate)^s. With R0 = 0.05 and
+// T = 0.5, R = 0.25 gives s = ln 5 / ln 10 = 0.69897 → 11/16; R = 0.05 · 10^(8/16) = 0.158 gives
+// exactly 8/16.
+TEST(Stage2Steps, PorosityRateFollowsTheLogOfTheOpening) {
+    Stage2Options g;                                  // pRate 0.5, pRateChannel 0.001, threshold 0.5
+    EXPECT_EQ(porosityRate(0.05f, 0.05f, g), 0.5f);   // unopened: rock
+    EXPECT_EQ(porosityRate(0.5f, 0.05f, g), 0.001f);  // at the threshold: channel
+    EXPECT_EQ(porosityRate(0.9f, 0.05f, g), 0.001f);
+    EXPECT_FLOAT_EQ(porosityRate(0.25f, 0.05f, g), float(0.5 * std::pow(0.002, 11.0 / 16)));
+    EXPECT_FLOAT_EQ(porosityRate(0.1582f, 0.05f, g), float(0.5 * std::pow(0.002, 8.0 / 16)));
+    EXPECT_EQ(porosityRate(0.04f, 0.05f, g), 0.5f);  // never above the rock rate
+    // Initial porosity at or above the threshold: channel rate once opened at all.
+    EXPECT_EQ(porosityRate(0.6f, 0.6f, g), 0.5f);
+    EXPECT_EQ(porosityRate(0.61f, 0.6f, g), 0.001f);
+    // Only ratios enter: both rates × 4 give 4 × the rate, bit for bit.
+    Stage2Options g4 = g;
+    g4.pRate *= 4;
+    g4.pRateChannel *= 4;
+    EXPECT_EQ(porosityRate(0.25f, 0.05f, g4), 4.f * porosityRate(0.25f, 0.05f, g));
+    // rateField: a stage-1 protochannel follows its porosity, a [[rock.channel]] voxel is open.
+    Domain d = emptyDomain(Dims{3, 1, 1}, 1.0, 0.05f);
+    d.porosity[0] = d.porosity[1] = 0.25f;
+    d.flags[0] |= kProtochannel;
+    d.flags[1] |= kProtochannel | kFeatureChannel;
+    const Grid3<float> rate = rateField(d, g);
+    EXPECT_EQ(rate[0], porosityRate(0.25f, 0.05f, g));
+    EXPECT_EQ(rate[1], 0.001f);
+    EXPECT_EQ(rate[2], 0.5f);
+    g.rateRule = RateRule::kChannelFlag;  // the paper's rule
+    EXPECT_EQ(rateField(d, g)[0], 0.001f);
+}
+
+// Erosion lowers a protochannel's rate as it opens and lists it for the pressure decrease; a rock
+// voxel eroded as much keeps the rock rate until it becomes channel.
+TEST(Stage2Steps, ProtochannelRateFallsAsItOpens) {
+    Domain d = emptyDomain(Dims{2, 1, 1}, 1.0, 0.05f);
+    d.porosity[0] = 0.25f;
+    d.flags[0] |= kProtochannel;
+    d.porosity[1] = 0.25f;  // rock opened as far, by erosion
+    Stage2State st(d.dims);
+    for (std::size_t v = 0; v < 2; ++v) st.ref(st.fc, v) = 0.4;  // f = 0.4: R += 0.06
+    Stage2Options g;
+    Grid3<float> rate = rateField(d, g);
+    const float before = rate[0];
+    std::vector<std::size_t> fresh, conducting;
+    erode(d, g, st, rate, fresh, conducting);
+    EXPECT_FLOAT_EQ(d.porosity[0], 0.31f);
+    EXPECT_EQ(rate[0], porosityRate(0.31f, 0.05f, g));
+    EXPECT_LT(rate[0], before);
+    EXPECT_EQ(rate[1], 0.5f);
+    EXPECT_EQ(fresh, (std::vector<std::size_t>{0}));
+    EXPECT_TRUE(conducting.empty());
+}
+
+// Head inflow: level = clamp(head − P(v) / cap, 0, 1).
+TEST(Stage2Steps, HeadLevelsFollowTheField) {
+    Domain d = emptyDomain(Dims{4, 1, 1}, 1.0, 0.1f);
+    d.sourceVoxels = {{0}, {3}};
+    d.sourcePressure = {1.0, 2.0};
+    std::vector<Refill> levels = refillLevels(d);
+    Grid3<double> P(d.dims, 0.0);
+    P[0] = 10;  // head 0.5 of cap 40: 0.5 − 0.25
+    P[3] = 50;  // above the cap: head 1 − 1.25 → 0
+    headLevels(P, 40.0, levels);
+    EXPECT_DOUBLE_EQ(levels[0].level, 0.25);
+    EXPECT_DOUBLE_EQ(levels[1].level, 0.0);
+    P[3] = 0;  // joined to a sink: the whole head
+    headLevels(P, 40.0, levels);
+    EXPECT_DOUBLE_EQ(levels[1].level, 1.0);
+    Stage2State st(d.dims);
+    std::vector<double> perSource(2, 0.0);
+    const double injected = refillSources(d, levels, st, &perSource);
+    EXPECT_NEAR(injected, 0.025 + 0.1, 1e-7);
+    EXPECT_NEAR(perSource[0], 0.025, 1e-7);
+    EXPECT_NEAR(perSource[1], 0.1, 1e-7);
 }
 
 // The avalanche: P(x) = min over neighbours P(y) + rate(x) · |x − y|. A row with a sink at 0 and
