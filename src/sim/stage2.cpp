@@ -19,6 +19,8 @@ namespace stage2 {
 namespace {
 
 constexpr std::uint8_t kOpen = kSource | kSink;
+/// Voxels erosion never touches: the terminals, and rock that is not karst ([site]: air, insoluble).
+constexpr std::uint8_t kNotEroded = kOpen | kInert;
 constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
 
 /// Contents below this (porosity units, i.e. a 10⁻⁹ part of a voxel) stay where they are: a film
@@ -360,7 +362,7 @@ double erode(Domain& dom, const Stage2Options& g, const Stage2State& st, Grid3<f
     const std::size_t n = dom.dims.count();
     for (std::size_t v = 0; v < n; ++v) {
         std::uint8_t& f = dom.flags[v];
-        if (f & kOpen) continue;
+        if (f & kNotEroded) continue;
         const double flow = g.wa * st.fa[v] + st.fc[v];
         if (flow > 0) {
             const float R = dom.porosity[v];
