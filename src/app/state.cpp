@@ -156,7 +156,7 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
     const auto nonNegative = [](float r) { return std::isfinite(r) && r >= 0.f; };
     checkGrid(dom.porosity, vdb, "porosity", "porosity is in [0, 1]", unit);
     checkGrid(dom.porosity0, vdb, "porosity0", "porosity is in [0, 1]", unit);
-    const int nSources = int(s.sources.size());
+    const int nSources = int(dom.sourceVoxels.size());  // with a site's sinkholes
     checkGrid(dom.zone, vdb, "zone", "zones are -1 or a source index",
               [nSources](std::int32_t z) { return z >= -1 && z < nSources; });
     checkGrid(dom.pressure, vdb, "pressure", "pressure is finite and not negative", nonNegative);
