@@ -464,10 +464,22 @@ nlohmann::json summariseEnsemble(const fs::path& out, const Scenario& base, int 
                    base.voxelSize, origin);
     formats::writeScalarVti(probability, "probability", "1 (fraction of members in which the voxel is cave)",
                             base.voxelSize, origin, vti);
-    render::writePng((out / "images/probability_plan.png").string(),
-                     render::probabilityPlanFigure(
-                         probability, base.voxelSize, origin[0], origin[1],
-                         base.name + ": karstification probability (" + std::to_string(ok) + " members)", 900));
+    // The terminals' columns (box centres), the site's sinkholes and springs included.
+    std::vector<std::array<double, 2>> sources, sinks;
+    auto centre = [](const VoxelBox& b) {
+        return std::array<double, 2>{0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1])};
+    };
+    for (const SourceSpec& t : base.sources) sources.push_back(centre(t.box));
+    for (const SinkSpec& t : base.sinks) sinks.push_back(centre(t.box));
+    if (base.siteData) {
+        for (const SourceSpec& t : base.siteData->sources) sources.push_back(centre(t.box));
+        for (const SinkSpec& t : base.siteData->sinks) sinks.push_back(centre(t.box));
+    }
+    render::writePng(
+        (out / "images/probability_plan.png").string(),
+        render::probabilityPlanFigure(probability, base.voxelSize, origin[0], origin[1],
+                                      base.name + ": karstification probability (" + std::to_string(ok) + " members)",
+                                      900, sources, sinks));
 
     nlohmann::json varyJson = nlohmann::json::array();
     for (const VaryRange& v : vary)

@@ -87,12 +87,13 @@ Image histogramFigure(const std::vector<double>& values, const std::string& titl
 }
 
 Image probabilityPlanFigure(const Grid3<float>& p, double voxelSize, double originX, double originY,
-                            const std::string& title, int width) {
+                            const std::string& title, int width, const std::vector<std::array<double, 2>>& sources,
+                            const std::vector<std::array<double, 2>>& sinks) {
     CAVESIM_CHECK(width >= 256 && width <= 4096, "probability map width out of range");
     CAVESIM_CHECK(p.dims.count() > 0, "probability map of an empty grid");
     const Dims& d = p.dims;
     const int scale = std::max(1, width / 400);
-    const int left = 36 * scale, right = 60 * scale, top = 20 * scale, bottom = 40 * scale;
+    const int left = 36 * scale, right = 60 * scale, top = 20 * scale, bottom = 40 * scale;  // room for 3 text lines
     const double px = double(width - left - right) / d.nx;
     const int mapW = width - left - right, mapH = int(std::lround(px * d.ny));
     Image img(width, top + mapH + bottom, colours::kWhite);
@@ -108,6 +109,13 @@ Image probabilityPlanFigure(const Grid3<float>& p, double voxelSize, double orig
         }
     }
     drawRect(img, left - 1, top - 1, mapW + 2, mapH + 2, colours::kText);
+    const double r = std::max(3.0, 0.6 * px);
+    for (const auto& c : sinks)
+        drawMarker(img, left + (c[0] + 0.5) * px, top + mapH - (c[1] + 0.5) * px, r, Marker::kSquare, colours::kSink,
+                   colours::kWhite);
+    for (const auto& c : sources)
+        drawMarker(img, left + (c[0] + 0.5) * px, top + mapH - (c[1] + 0.5) * px, r, Marker::kCircle, colours::kSource,
+                   colours::kWhite);
     // Colour bar 0–1.
     const int cbX = left + mapW + 12 * scale, cbW = 10 * scale;
     for (int y = 0; y < mapH; ++y)
@@ -124,6 +132,8 @@ Image probabilityPlanFigure(const Grid3<float>& p, double voxelSize, double orig
         img, left, top + mapH + 16 * scale,
         "x east, y north; corner at (" + number(originX, 12) + ", " + number(originY, 12) + ") m; grey: never cave",
         colours::kText, scale, Align::kLeft);
+    drawTextAligned(img, left, top + mapH + 27 * scale, "red circles: sources, blue squares: sinks", colours::kText,
+                    scale, Align::kLeft);
     return img;
 }
 

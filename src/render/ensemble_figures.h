@@ -6,6 +6,7 @@
 /// render/image.h; no OpenVDB here.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -24,11 +25,13 @@ Image histogramFigure(const std::vector<double>& values, const std::string& titl
 
 /// Plan view of a probability grid (values in [0, 1], index space, z up): each column shows the
 /// largest probability along it (where a passage is most likely at any depth), x right, y up,
-/// colour bar 0–1, axes and scale bar in metres (`voxelSize` metres per voxel; `originX`,
-/// `originY` the world position of the block's corner, printed under the map).
+/// colour bar 0–1, axes in metres (`voxelSize` metres per voxel; `originX`, `originY` the world
+/// position of the block's corner, printed under the map). `sources` and `sinks` (plan-view voxel
+/// columns (i, j), index space) are drawn as red circles and blue squares.
 /// @param width  pixels, 256–4096
 /// @throw InternalError if width is out of range or the grid is empty
 Image probabilityPlanFigure(const Grid3<float>& probability, double voxelSize, double originX, double originY,
-                            const std::string& title, int width);
+                            const std::string& title, int width, const std::vector<std::array<double, 2>>& sources = {},
+                            const std::vector<std::array<double, 2>>& sinks = {});
 
 }  // namespace cavesim::render
