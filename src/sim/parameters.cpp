@@ -638,6 +638,7 @@ std::vector<ParamSection> makeRegistry() {
             real("porosity", &SiteHorizon::porosity, rng(0, 1),
                  "porosity inside the slab (the larger of this and the rock's); flagged as fracture"),
         }));
+    horizon.exampleCommented = true;
     horizon.prose =
         "A slab of raised porosity along a surface read from a file, like a `[[rock.plane]]` bedding "
         "plane that follows the site's geology. At most 64 horizons.";
@@ -839,14 +840,18 @@ std::string exampleScenarioToml() {
            "# Each comment gives the meaning, the unit and the allowed range; docs/scenario-format.md has more.\n";
     for (const ParamSection& s : scenarioParameters()) {
         out << "\n";
-        if (!s.path.empty()) out << s.header() << (s.isArray ? "  # one entry of possibly many" : "") << "\n";
+        const std::string off = s.exampleCommented ? "# " : "";
+        if (!s.path.empty())
+            out << off << s.header() << (s.isArray ? "  # one entry of possibly many" : "")
+                << (s.exampleCommented ? " (it needs its files: remove the '# ')" : "") << "\n";
         for (const Param& p : s.params) {
             out << "# " << p.description << " (unit: " << p.unit << "; range: " << rangeText(p) << ")\n";
             if (p.type == ParamType::kVoxelBox) {
                 out << "# " << p.key << " = [[0, 0, 0], [1, 1, 1]]\n";
                 continue;
             }
-            out << p.key << " = " << (p.example.empty() ? paramValueText(p.get(s.defaults())) : p.example) << "\n";
+            out << off << p.key << " = " << (p.example.empty() ? paramValueText(p.get(s.defaults())) : p.example)
+                << "\n";
         }
     }
     return out.str();

@@ -87,6 +87,9 @@ struct ParamSection {
     std::string heading;  ///< reference heading after the table name
     std::string prose;    ///< reference text before the key table
     std::string notes;    ///< reference text after the key table
+    /// The example scenario shows this section commented out (its entries name files that the
+    /// example does not ship).
+    bool exampleCommented = false;
     std::vector<Param> params;
     /// The records: one for a table, the vector's elements for a table of arrays.
     std::function<std::size_t(const Scenario&)> count;
