@@ -290,7 +290,9 @@ EnsembleOutcome runEnsemble(const EnsembleRequest& request, const Communicator& 
     if (!fs::is_directory(membersDir))
         throw InputError(membersDir.string() + ": cannot be created (" + ec.message() + ")");
 
-    const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
+    const int threads = request.threads > 0
+                            ? request.threads
+                            : std::max(1, int(tbb::info::default_concurrency()) / std::max(1, comm.localRanks));
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
     // This rank's members, and which of them are already finished.

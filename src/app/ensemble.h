@@ -69,6 +69,7 @@ std::string memberChecksum(const std::filesystem::path& dir);
 struct Communicator {
     int rank = 0;
     int size = 1;
+    int localRanks = 1;             ///< ranks on this machine (they share its cores)
     std::function<void()> barrier;  ///< waits for every rank (none for a single process)
 };
 
@@ -77,7 +78,7 @@ struct EnsembleRequest {
     int members = 0;                ///< 1 … 100 000
     std::vector<std::string> vary;  ///< `--vary` texts
     std::string outDir;             ///< empty: out/<scenario name>_ensemble
-    int threads = 0;                ///< threads of this process; 0: all cores
+    int threads = 0;                ///< threads of this process; 0: the machine's cores / its ranks
     int parallel = 0;               ///< members at once in this process; 0: as many as threads
 };
 

@@ -52,6 +52,10 @@ Communicator processCommunicator() {
     }
     MPI_Comm_rank(MPI_COMM_WORLD, &c.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &c.size);
+    MPI_Comm node;  // the ranks that share this machine's memory (and cores)
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, c.rank, MPI_INFO_NULL, &node);
+    MPI_Comm_size(node, &c.localRanks);
+    MPI_Comm_free(&node);
     c.barrier = [] { MPI_Barrier(MPI_COMM_WORLD); };
 #else
     if (launchedByMpirun())

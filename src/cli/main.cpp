@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
                             "KEY=LOW:HIGH[:uniform|log] draws a number key per member (repeatable; keys with 'rate' "
                             "in their name are log-uniform unless told)");
     ensembleCmd->add_option("--out,-o", ens.outDir, "Ensemble folder (default out/<scenario name>_ensemble)");
-    ensembleCmd->add_option("--threads,-j", ens.threads, "Threads of this process (default: all cores)")
+    ensembleCmd->add_option("--threads,-j", ens.threads, "Threads of this process (default: all cores, shared by the ranks on a machine)")
         ->check(CLI::Range(1, 1024));
     ensembleCmd->add_option("--parallel", ens.parallel, "Members at once in this process (default: the threads)")
         ->check(CLI::Range(1, 1024));
