@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -73,8 +74,11 @@ bool isTiff(const std::string& path) {
 }
 
 /// `what` = "key 'site.dem' = path": how messages name a file.
-std::string label(const Scenario& s, const void* field, const std::string& path) {
-    return s.path + ": key '" + scenarioKey(s, field) + "' = " + path;
+/// How messages name a site file: the scenario, the key and its value as typed, then the file
+/// itself (absolute), which the rest of the message continues ("…/dem.tif: not a GeoTIFF").
+std::string label(const Scenario& s, const void* field, const std::string& typed, const std::string& path) {
+    const std::string key = s.path + ": key '" + scenarioKey(s, field) + "' = ";
+    return typed == path ? key + path : key + "\"" + typed + "\": " + path;
 }
 
 void checkReadable(const std::string& what, const std::string& path) {
@@ -210,6 +214,15 @@ std::vector<SitePoint> readPoints(const std::string& what, const std::string& pa
 
 #ifdef CAVESIM_HAVE_GDAL
 
+/// GDAL's messages stay quiet while site files are read (library code never prints): failures
+/// come back as return values, turned into InputErrors here.
+struct QuietGdal {
+    QuietGdal() { CPLPushErrorHandler(CPLQuietErrorHandler); }
+    ~QuietGdal() { CPLPopErrorHandler(); }
+    QuietGdal(const QuietGdal&) = delete;
+    QuietGdal& operator=(const QuietGdal&) = delete;
+};
+
 struct DatasetCloser {
     void operator()(GDALDataset* d) const { GDALClose(GDALDataset::ToHandle(d)); }
 };
@@ -233,9 +246,7 @@ Raster openRaster(const std::string& what, const std::string& path) {
     checkReadable(what, path);
     Raster r;
     r.what = what;
-    CPLPushErrorHandler(CPLQuietErrorHandler);
     r.ds.reset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-    CPLPopErrorHandler();
     if (!r.ds) throw InputError(what + ": not a GeoTIFF (GDAL cannot read it as a raster)");
     const std::string driver = r.ds->GetDriver() ? r.ds->GetDriver()->GetDescription() : "?";
     if (driver != "GTiff") throw InputError(what + ": not a GeoTIFF (GDAL reads it as " + driver + ")");
@@ -313,6 +324,15 @@ void loadSite(Scenario& s) {
     // Paths relative to the scenario file's folder, made absolute for the effective scenario.
     const fs::path folder =
         s.path.empty() || s.path.front() == '<' ? fs::current_path() : fs::absolute(s.path).parent_path();
+    // The values as typed, for messages.
+    std::map<const void*, std::string> typed;
+    for (const std::string* p :
+         {&s.site.dem, &s.site.sinkholes, &s.site.springs, &s.site.baseOfLimestone, &s.site.waterTable})
+        typed[p] = *p;
+    for (const SiteHorizon& hz : s.siteHorizons) typed[&hz.file] = hz.file;
+    const auto label = [&](const void* field, const std::string& path) {
+        return site::label(s, field, typed[field], path);
+    };
     auto resolve = [&](std::string& p) {
         if (!p.empty() && fs::path(p).is_relative()) p = (folder / p).lexically_normal().string();
     };
@@ -326,6 +346,7 @@ void loadSite(Scenario& s) {
                      ": [site] files need GDAL, and this cavesim was built without it (install libgdal-dev "
                      "and rebuild: bash scripts/setup.sh)");
 #else
+    const QuietGdal quiet;
     const Block b = blockOf(s);
     const int nx = b.n[0], ny = b.n[1], nz = b.n[2];
     auto data = std::make_shared<SiteData>();
@@ -379,14 +400,14 @@ void loadSite(Scenario& s) {
             }
         return z;
     };
-    if (!s.site.dem.empty()) data->landSurface = surface(label(s, &s.site.dem, s.site.dem), s.site.dem, true);
+    if (!s.site.dem.empty()) data->landSurface = surface(label(&s.site.dem, s.site.dem), s.site.dem, true);
     if (!s.site.baseOfLimestone.empty())
         data->baseOfLimestone =
-            surface(label(s, &s.site.baseOfLimestone, s.site.baseOfLimestone), s.site.baseOfLimestone, false);
+            surface(label(&s.site.baseOfLimestone, s.site.baseOfLimestone), s.site.baseOfLimestone, false);
     if (!s.site.waterTable.empty())
-        data->waterTable = surface(label(s, &s.site.waterTable, s.site.waterTable), s.site.waterTable, false);
+        data->waterTable = surface(label(&s.site.waterTable, s.site.waterTable), s.site.waterTable, false);
     for (std::size_t n = 0; n < s.siteHorizons.size(); ++n)
-        data->horizons.push_back(surface(label(s, &s.siteHorizons[n].file, s.siteHorizons[n].file) +
+        data->horizons.push_back(surface(label(&s.siteHorizons[n].file, s.siteHorizons[n].file) +
                                              " ([[site.horizon]] " + std::to_string(n + 1) + ")",
                                          s.siteHorizons[n].file, false));
 
@@ -417,7 +438,7 @@ void loadSite(Scenario& s) {
         return VoxelBox{{i, j, k}, {i, j, k}};
     };
     if (!s.site.sinkholes.empty()) {
-        const std::string what = label(s, &s.site.sinkholes, s.site.sinkholes);
+        const std::string what = label(&s.site.sinkholes, s.site.sinkholes);
         checkReadable(what, s.site.sinkholes);
         for (const SitePoint& p : readPoints(what, s.site.sinkholes)) {
             SourceSpec src;
@@ -428,7 +449,7 @@ void loadSite(Scenario& s) {
         }
     }
     if (!s.site.springs.empty()) {
-        const std::string what = label(s, &s.site.springs, s.site.springs);
+        const std::string what = label(&s.site.springs, s.site.springs);
         checkReadable(what, s.site.springs);
         for (const SitePoint& p : readPoints(what, s.site.springs)) {
             SinkSpec snk;
