@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "app/cave_maps.h"
 #include "app/report.h"
 #include "app/state.h"
 #include "core/timer.h"
@@ -14,6 +15,7 @@
 #include "render/pictures.h"
 #include "render/png_io.h"
 #include "sim/cave.h"
+#include "sim/connectivity.h"
 #include "sim/domain.h"
 #include "sim/scenario_io.h"
 #include "sim/stage1.h"
@@ -66,6 +68,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     if (s.stage2.enabled) {
         const Stopwatch t2;
         prepareStage2(dom, s.stage2);
+        rec.connectedAtStart = sourcesConnectedAtStart(dom);
         // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
         // reduced as it is taken, so the frames kept for the strip stay small at any image width.
         constexpr int kPerRow = 6, kStripWidth = 8192;
@@ -127,6 +130,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const Grid3<float>* pressure = s.stage2.enabled ? &dom.pressure : nullptr;
     const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, pressure, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
+    if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
 

@@ -32,6 +32,9 @@ struct RunRecord {
     int threads = 1;
     std::optional<Stage1Result> stage1;
     std::optional<Stage2Result> stage2;
+    /// Sources joined to a sink through channel or protochannel voxels before stage 2's first
+    /// iteration (sim/connectivity.h); empty when stage 2 did not run.
+    std::optional<int> connectedAtStart;
     Timing timing;
     nlohmann::json mesh;                              ///< mesh statistics (null when no mesh was written)
     nlohmann::json analysis;                          ///< {network, morphometry, graph_metrics, skeleton, category}

@@ -85,7 +85,10 @@ struct Stage1Options {
                                         GridFace::kMinusZ};
     double protosinkShare = 0.5;   ///< total protosink drain / source capacity
     double branchFlow = 0.02;      ///< least fraction of a zone's flow through a protochannel voxel
-    double resistanceNoise = 0.5;  ///< relative random variation of link resistance
+    double resistanceNoise = 0.5;  ///< spread of the log-uniform random factor on link resistance
+    /// voxels: no protochannel within this Chebyshev distance of a sink voxel (the rock stage 1
+    /// leaves between protochannels and sinks)
+    int sinkGap = 2;
 };
 
 /// Stage 2 (stage2.h): pressure front, water transport, blending, erosion.

@@ -62,7 +62,7 @@ TEST(Lib, ScenarioFromFileReadsTheFile) {
     EXPECT_EQ(s.name(), "small3d");
     EXPECT_EQ(s.seed(), 7u);
     EXPECT_EQ(s.size(), (std::array<int, 3>{24, 24, 8}));
-    EXPECT_EQ(s.get("stage2.iterations").asInt(), 120);
+    EXPECT_EQ(s.get("stage2.iterations").asInt(), 150);
     EXPECT_EQ(s.get("source").items().size(), 2u);
     EXPECT_DOUBLE_EQ(s.get("stage2.p_rate").asReal(), 0.5);  // a default
 }
@@ -156,9 +156,9 @@ TEST(Lib, RunMatchesTheCommandByteForByte) {
     EXPECT_FALSE(readFile(dir / "state.vdb").empty());
 
     const api::Report& rep = r.report();
-    EXPECT_EQ(rep.breakthroughIteration, std::optional<int>(91));
+    EXPECT_EQ(rep.breakthroughIteration, std::optional<int>(120));
     EXPECT_EQ(rep.sourcesConnected, 2);
-    EXPECT_EQ(rep.iterations, 120);
+    EXPECT_EQ(rep.iterations, 150);
     EXPECT_EQ(r.skeleton().nodes.size(), std::size_t(rep.skeletonNodes));
     EXPECT_EQ(r.mesh().triangles.size(), std::size_t(rep.meshFaces));
     EXPECT_TRUE(rep.meshClosed);

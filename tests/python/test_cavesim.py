@@ -21,7 +21,7 @@ SMALL_DICT = {
     "domain": {"size": [24, 24, 8]},
     "source": [{"at": [2, 4, 6], "pressure": 1.0}, {"at": [2, 19, 5], "pressure": 0.8}],
     "sink": [{"box": [[22, 9, 0], [23, 14, 2]]}],
-    "stage2.iterations": 120,
+    "stage2.iterations": 150,
     "output": {"image_width": 256},
 }
 
@@ -125,7 +125,7 @@ def test_input_errors_carry_the_commands_message(tmp_path):
 def test_report_skeleton_and_mesh(result):
     rep = result.report
     assert rep["scenario"] == "small3d" and rep["grid"] == [24, 24, 8] and rep["threads"] == 2
-    assert rep["stage2"]["breakthrough_iteration"] == 91
+    assert rep["stage2"]["breakthrough_iteration"] == 120
     assert rep["network"]["sources_connected"] == 2
     sk = result.skeleton
     assert sk.nodes.shape == (rep["skeleton"]["nodes"], 3) and sk.edges.shape == (rep["skeleton"]["edges"], 2)
@@ -161,7 +161,7 @@ def test_threads_do_not_change_results(result):
 def test_progress_and_cancel():
     seen = []
     cavesim.run(SMALL, progress=lambda phase, done, total: seen.append((phase, done, total)), mesh=False)
-    assert ("stage 2", 120, 120) in seen and ("analysis", 1, 1) in seen
+    assert ("stage 2", 150, 150) in seen and ("analysis", 1, 1) in seen
 
     class Stop(Exception):
         pass
