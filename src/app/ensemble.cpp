@@ -251,7 +251,7 @@ std::string memberChecksum(const fs::path& dir) {
     for (const auto& e : fs::recursive_directory_iterator(dir)) {
         if (!e.is_regular_file()) continue;
         const fs::path rel = fs::relative(e.path(), dir);
-        if (rel == "report.json" || rel == "report.md") continue;
+        if (rel == "report.json" || rel == "report.md" || rel == "report.html") continue;  // timings
         files.push_back(rel);
     }
     std::sort(files.begin(), files.end(),

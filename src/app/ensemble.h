@@ -59,8 +59,8 @@ Scenario memberScenario(const Scenario& base, int member, const std::vector<Vary
                         nlohmann::json* values = nullptr);
 
 /// The member checksum of a member's run folder: FNV-1a 64 over, for every regular file in path
-/// order, its relative path, a 0 byte and its bytes — except report.json and report.md, which
-/// hold timings and the thread count. Equal checksums: byte-identical results.
+/// order, its relative path, a 0 byte, its length (8 bytes) and its bytes — except report.json,
+/// report.md and report.html, which hold timings and the thread count. Equal checksums: byte-identical results.
 /// @throw RuntimeError if a file cannot be read
 std::string memberChecksum(const std::filesystem::path& dir);
 
