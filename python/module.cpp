@@ -258,4 +258,5 @@ PYBIND11_MODULE(_cavesim, m) {
     m.attr("FLAG_OBSTACLE") = int(api::kFlagObstacle);
     m.attr("FLAG_FRACTURE") = int(api::kFlagFracture);
     m.attr("FLAG_FEATURE_CHANNEL") = int(api::kFlagFeatureChannel);
+    m.attr("FLAG_INERT") = int(api::kFlagInert);
 }

@@ -3,6 +3,14 @@
 # end-to-end tests of the cavesim command, through CTest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# MPI for the ensemble's 2-rank test (tests/cli/ensemble_mpi.sh); installed before the build
+# configures, so the build finds it and `cavesim ensemble` runs under mpirun.
+. scripts/install_packages.sh
+install_packages test openmpi-bin libopenmpi-dev
+BUILD_DIR=${CAVESIM_BUILD_DIR:-build}
+if [ -f "$BUILD_DIR/CMakeCache.txt" ] && ! grep -q '^MPI_CXX_COMPILER:FILEPATH=/' "$BUILD_DIR/CMakeCache.txt"; then
+  cmake -U 'MPI_*' -S . -B "$BUILD_DIR" >&2  # configured before MPI was installed: look again
+fi
 bash scripts/setup.sh
 
 # Test-only tools: the readers the export tests load our files back with (tests/formats/readers.sh,

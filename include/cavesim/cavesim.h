@@ -195,6 +195,7 @@ enum VoxelFlag : std::uint8_t {
     kFlagObstacle = 1u << 4,
     kFlagFracture = 1u << 5,
     kFlagFeatureChannel = 1u << 6,
+    kFlagInert = 1u << 7,  ///< [site]: air above the land surface or insoluble rock (porosity 0, never eroded)
 };
 
 /// A read-only view of a dense grid owned by a `Result` (valid while the Result lives).

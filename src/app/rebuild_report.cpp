@@ -20,12 +20,12 @@
 #include "core/timer.h"
 #include "morpho/analysis.h"
 #include "sim/scenario_io.h"
+#include "site/site.h"
 
 namespace fs = std::filesystem;
 
 namespace cavesim::app {
 namespace {
-
 
 nlohmann::json readJsonIfPresent(const fs::path& path) {
     std::error_code ec;
@@ -57,7 +57,8 @@ std::string rebuildReport(const std::string& dirArg) {
         if (!fs::exists(dir / f))
             throw InputError((dir / f).string() + ": missing; `cavesim report` needs the files a run writes");
     const Stopwatch t0;
-    const Scenario s = parseScenarioFile((dir / "scenario.toml").string());
+    Scenario s = parseScenarioFile((dir / "scenario.toml").string());
+    site::loadSite(s);  // a site run's sinkholes and springs are its terminals
     nlohmann::json report = readJsonIfPresent(dir / "report.json");
     // Everything this command rewrites must be a file (or absent), so it does not stop half-way.
     for (const char* f : {"report.json", "report.md", "skeleton.json", "skeleton_nodes.dat", "skeleton_links.dat"}) {
@@ -77,7 +78,8 @@ std::string rebuildReport(const std::string& dirArg) {
             connected.push_back(v.is_number_integer() ? std::optional<int>(v.get<int>()) : std::nullopt);
     }
     const Cave cave = makeCave(dom, s.output.cave);
-    const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+    const morpho::CaveAnalysis analysis =
+        morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.string(), dom.voxelSize, dom.dims);
     const nlohmann::json a = analysisJson(analysis);
     report["scenario"] = s.name;

@@ -202,6 +202,10 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["scenario"] = s.name;
     j["grid"] = {s.size[0], s.size[1], s.size[2]};
     j["voxel_size_m"] = s.voxelSize;
+    // Index → world: x = origin + (i, j, k) · voxel size (a voxel's low corner); [site] origin.
+    j["world_from_index"] = {{"origin_m", {dom.origin[0], dom.origin[1], dom.origin[2]}},
+                             {"scale_m", s.voxelSize},
+                             {"crs", s.siteData ? nlohmann::json(s.siteData->crs) : nlohmann::json(nullptr)}};
     j["seed"] = s.seed;
     j["threads"] = rec.threads;
     j["timing_s"] = {{"stage1", num(rec.timing.stage1)},   {"stage2", num(rec.timing.stage2)},

@@ -12,13 +12,15 @@
 #include "formats/exports.h"
 #include "sim/preflight.h"
 #include "sim/scenario_io.h"
+#include "site/site.h"
 
 namespace fs = std::filesystem;
 
 namespace cavesim::app {
 
 std::string validateSummary(const std::string& path) {
-    const Scenario s = parseScenarioFile(path);
+    Scenario s = parseScenarioFile(path);
+    site::loadSite(s);  // the site's files are part of the scenario: checked here too
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "%s: ok: scenario '%s', grid %d x %d x %d (%.3g m voxels), %zu source(s), %zu sink(s), stage 1 %s, "
@@ -49,6 +51,7 @@ Scenario requestedScenario(const RunRequest& request) {
     if (request.formats) s.output.formats = formats::formatList(formats::parseFormatSet(*request.formats));
     if (request.meshNormals) s.output.meshNormals = *request.meshNormals;
     validateScenario(s);
+    site::loadSite(s);
     return s;
 }
 

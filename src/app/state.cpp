@@ -30,11 +30,11 @@ nlohmann::json recordedInScenario(const fs::path& scenario) {
         if (line.compare(0, tag.size(), tag) != 0) continue;
         if (line.size() > 4096) return nullptr;  // a record is one short line
         try {
-            return nlohmann::json::parse(line.substr(tag.size()), [](int depth, nlohmann::json::parse_event_t,
-                                                                     nlohmann::json&) {
-                if (depth > 8) throw std::length_error("nested");
-                return true;
-            });
+            return nlohmann::json::parse(line.substr(tag.size()),
+                                         [](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+                                             if (depth > 8) throw std::length_error("nested");
+                                             return true;
+                                         });
         } catch (const std::exception&) {
             return nullptr;
         }
@@ -76,7 +76,7 @@ void writeState(const std::string& path, const Domain& dom, const Scenario& s, S
         grids.push_back({"flow", &dom.flow, nullptr, "stage-2 flow f of the last iteration (Eq. 2)"});
         grids.push_back({"water", &dom.water, nullptr, "stage-2 water contents"});
     }
-    mesh::writeVdb(path, grids, dom.voxelSize);
+    mesh::writeVdb(path, grids, dom.voxelSize, dom.origin);
 }
 
 nlohmann::json fileFingerprint(const std::string& path) {
@@ -106,7 +106,8 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
     // OpenVDB does not survive a damaged file: the run recorded the file's size, checksum and grid
     // in report.json and in the last line of scenario.toml; without a record the file is not read.
     std::error_code ec;
-    if (!fs::is_regular_file(vdb, ec)) throw InputError(vdb + ": not a regular file; `cavesim report` needs the run's state.vdb");
+    if (!fs::is_regular_file(vdb, ec))
+        throw InputError(vdb + ": not a regular file; `cavesim report` needs the run's state.vdb");
     const auto usable = [](const nlohmann::json& r) {
         return r.is_object() && r.contains("bytes") && r["bytes"].is_number_unsigned() && r.contains("fnv1a64") &&
                r["fnv1a64"].is_string() && r.contains("grid") && r["grid"].is_array() && r["grid"].size() == 3 &&
@@ -117,8 +118,9 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
         then = report["files"]["state.vdb"];
     if (!usable(then)) then = recordedInScenario(dir / "scenario.toml");
     if (!usable(then))
-        throw InputError(vdb + ": no usable record of it (report.json `files` and the last line of scenario.toml "
-                               "are missing or damaged), so it cannot be checked before reading; rerun `cavesim run`");
+        throw InputError(vdb +
+                         ": no usable record of it (report.json `files` and the last line of scenario.toml "
+                         "are missing or damaged), so it cannot be checked before reading; rerun `cavesim run`");
     const nlohmann::json now = fileFingerprint(vdb);
     if (now["bytes"] != then["bytes"] || now["fnv1a64"] != then["fnv1a64"])
         throw InputError(vdb + ": changed since the run wrote it (now " + now.dump() + ", the run recorded " +
@@ -129,6 +131,7 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
                          shortNumber(s.voxelSize) + " m, but the run's state.vdb holds " + then["grid"].dump() +
                          " of " + then["voxel_size_m"].dump() + " m: the scenario was edited; rerun `cavesim run`");
     Domain dom = emptyDomain(Dims{s.size[0], s.size[1], s.size[2]}, s.voxelSize, 0.f);
+    dom.origin = {s.site.origin[0], s.site.origin[1], s.site.origin[2]};
     placeTerminals(dom, s);
     try {
         dom.porosity = mesh::readVdbFloat(vdb, "porosity", dom.dims);
@@ -153,7 +156,7 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
     const auto nonNegative = [](float r) { return std::isfinite(r) && r >= 0.f; };
     checkGrid(dom.porosity, vdb, "porosity", "porosity is in [0, 1]", unit);
     checkGrid(dom.porosity0, vdb, "porosity0", "porosity is in [0, 1]", unit);
-    const int nSources = int(s.sources.size());
+    const int nSources = int(dom.sourceVoxels.size());  // with a site's sinkholes
     checkGrid(dom.zone, vdb, "zone", "zones are -1 or a source index",
               [nSources](std::int32_t z) { return z >= -1 && z < nSources; });
     checkGrid(dom.pressure, vdb, "pressure", "pressure is finite and not negative", nonNegative);
@@ -163,6 +166,5 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
               [](float w) { return std::isfinite(w) && w >= -1e-6f; });
     return dom;
 }
-
 
 }  // namespace cavesim::app

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/ensemble.h"
 #include "cli/progress_bar.h"
 #include "core/error.h"
 #include "sim/parameters.h"
@@ -62,6 +63,20 @@ int main(int argc, char** argv) {
     reproCmd->add_option("--doc", repro.docPath, "Markdown file to write")->capture_default_str();
     reproCmd->add_option("--threads,-j", repro.threads, "Worker threads")->check(CLI::Range(1, 1024));
 
+    app::EnsembleRequest ens;
+    CLI::App* ensembleCmd = app.add_subcommand(
+        "ensemble", "Run N realisations of a scenario (in parallel; under mpirun spread over the ranks), resumable");
+    ensembleCmd->add_option("scenario", ens.scenarioPath, "Scenario file (TOML)")->required();
+    ensembleCmd->add_option("--members,-n", ens.members, "Number of members")->required()->check(CLI::Range(1, 100000));
+    ensembleCmd->add_option("--vary", ens.vary,
+                            "KEY=LOW:HIGH[:uniform|log] draws a number key per member (repeatable; keys with 'rate' "
+                            "in their name are log-uniform unless told)");
+    ensembleCmd->add_option("--out,-o", ens.outDir, "Ensemble folder (default out/<scenario name>_ensemble)");
+    ensembleCmd->add_option("--threads,-j", ens.threads, "Threads of this process (default: all cores, shared by the ranks on a machine)")
+        ->check(CLI::Range(1, 1024));
+    ensembleCmd->add_option("--parallel", ens.parallel, "Members at once in this process (default: the threads)")
+        ->check(CLI::Range(1, 1024));
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -85,6 +100,20 @@ int main(int argc, char** argv) {
                     (done.breakthroughIteration
                          ? ", breakthrough at iteration " + std::to_string(*done.breakthroughIteration)
                          : std::string()));
+            return 0;
+        }
+        if (*ensembleCmd) {
+            const app::Communicator comm = app::processCommunicator();
+            const auto log = [&comm](const std::string& m) {
+                std::fprintf(stderr, "%s%s\n", comm.size > 1 ? ("[" + std::to_string(comm.rank) + "] ").c_str() : "",
+                             m.c_str());
+            };
+            const app::EnsembleOutcome done = app::runEnsemble(ens, comm, log);
+            if (done.summary) {
+                std::printf("wrote %s: %d member(s), %d ok, %d failed\n", done.out.string().c_str(), done.members,
+                            done.ok, done.failed);
+                if (done.failed > 0) return 1;
+            }
             return 0;
         }
         if (*validateCmd) {

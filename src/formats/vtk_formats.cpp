@@ -74,7 +74,8 @@ void writeStateVti(const Domain& domain, const std::string& path, const Cave* ca
     add(domain.porosity, "porosity", "1 (fraction of the voxel that holds water)");
     add(domain.porosity0, "porosity0", "1 (initial porosity)");
     add(domain.flags, "flags",
-        "bits: 1 source, 2 sink, 4 protochannel, 8 channel, 16 obstacle, 32 fracture, 64 rock.channel");
+        "bits: 1 source, 2 sink, 4 protochannel, 8 channel, 16 obstacle, 32 fracture, 64 rock.channel, 128 inert "
+        "(site: air or insoluble)");
     add(domain.zone, "zone", "index (stage-1 zone: source index, -1 none)");
     add(domain.pressure, "pressure", "1 (stage-2 pressure, relative to the source pressure)");
     add(domain.flow, "flow", "voxel volumes per iteration (stage-2 flow f of the last iteration)");
@@ -89,10 +90,45 @@ void writeStateVti(const Domain& domain, const std::string& path, const Cave* ca
     xml.reserve(appended.size() + 4096);
     xml += "<?xml version=\"1.0\"?>\n";
     xml += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
-    xml += "  <ImageData WholeExtent=\"" + extent + "\" Origin=\"0 0 0\" Spacing=\"" + h + " " + h + " " + h + "\">\n";
+    const std::string origin =
+        detail::num(domain.origin[0]) + " " + detail::num(domain.origin[1]) + " " + detail::num(domain.origin[2]);
+    xml += "  <ImageData WholeExtent=\"" + extent + "\" Origin=\"" + origin + "\" Spacing=\"" + h + " " + h + " " + h +
+           "\">\n";
     xml += fieldData(units, domain.voxelSize);
     xml += "    <Piece Extent=\"" + extent + "\">\n      <PointData>\n      </PointData>\n";
     xml += "      <CellData Scalars=\"porosity\">\n" + arrays + "      </CellData>\n    </Piece>\n";
+    xml += "  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _";
+    xml += appended;
+    xml += "\n  </AppendedData>\n</VTKFile>\n";
+    detail::writeOut(path, xml);
+}
+
+void writeScalarVti(const Grid3<float>& grid, const std::string& name, const std::string& unit, double voxelSize,
+                    const std::array<double, 3>& origin, const std::string& path) {
+    const Dims& d = grid.dims;
+    if (d.count() == 0 || grid.size() != d.count()) throw RuntimeError("cannot write " + path + ": an empty grid");
+    const std::string h = detail::num(voxelSize);
+    const std::string extent =
+        "0 " + std::to_string(d.nx) + " 0 " + std::to_string(d.ny) + " 0 " + std::to_string(d.nz);
+    std::string appended;
+    detail::appendValue(appended, std::uint64_t(grid.size() * sizeof(float)));
+    detail::appendBytes(appended, grid.data.data(), grid.size());
+    const std::string o = detail::num(origin[0]) + " " + detail::num(origin[1]) + " " + detail::num(origin[2]);
+    std::string xml;
+    xml.reserve(appended.size() + 2048);
+    xml += "<?xml version=\"1.0\"?>\n";
+    xml += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    xml +=
+        "  <ImageData WholeExtent=\"" + extent + "\" Origin=\"" + o + "\" Spacing=\"" + h + " " + h + " " + h + "\">\n";
+    std::string fd = fieldData({name + ": " + unit}, voxelSize);
+    fd.insert(fd.rfind("    </FieldData>"),
+              "      <DataArray type=\"Float64\" Name=\"world_origin_m\" NumberOfTuples=\"1\" "
+              "NumberOfComponents=\"3\" format=\"ascii\">" +
+                  o + "</DataArray>\n");
+    xml += fd;
+    xml += "    <Piece Extent=\"" + extent + "\">\n      <PointData>\n      </PointData>\n";
+    xml += "      <CellData Scalars=\"" + name + "\">\n        <DataArray type=\"Float32\" Name=\"" + name +
+           "\" NumberOfComponents=\"1\" format=\"appended\" offset=\"0\"/>\n      </CellData>\n    </Piece>\n";
     xml += "  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _";
     xml += appended;
     xml += "\n  </AppendedData>\n</VTKFile>\n";
@@ -115,7 +151,7 @@ void writeSkeletonVtp(const morpho::Skeleton& skeleton, const std::string& path,
         for (const auto& node : skeleton.nodes)
             if (node.voxel >= domain->dims.count())
                 throw RuntimeError("cannot write " + path + ": a skeleton node stands on voxel " +
-                                 std::to_string(node.voxel) + ", outside the domain");
+                                   std::to_string(node.voxel) + ", outside the domain");
 
     std::ostringstream x;
     auto beginArray = [&x](const char* type, const char* name, int components = 1) {

@@ -6,6 +6,7 @@
 /// 64-bit block headers), little-endian. Space: metres, world space, z up (x east, y north).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -17,7 +18,7 @@
 namespace cavesim::formats {
 
 /// `state.vti`: an ImageData with one cell per voxel: WholeExtent 0 nx 0 ny 0 nz (points),
-/// Origin 0 0 0, Spacing h h h (metres), so cell (i, j, k) is the voxel cube
+/// Origin `domain.origin` (0 0 0 without a `[site]`), Spacing h h h (metres), so cell (i, j, k) is the voxel cube
 /// [i, i+1]·h × [j, j+1]·h × [k, k+1]·h, centred where state.vdb and the mesh put it. CellData
 /// arrays, raw appended binary: `porosity`, `porosity0`, `pressure`, `flow`, `water` (Float32),
 /// `flags` (UInt8, bits as state.vdb), `zone` (Int32), and with a cave `cave` (UInt8, 1 = cave
@@ -36,6 +37,15 @@ void writeStateVti(const Domain& domain, const std::string& path, const Cave* ca
 /// `passage_id` (Int32) and `length_m` (Float64). FieldData `units` as in state.vti. ASCII.
 /// @param domain  may be null (no flow, no pressure)
 /// @throw InputError on an invalid skeleton; RuntimeError naming `path` when it cannot be written
+/// One float grid as an ImageData of cells: WholeExtent 0 nx 0 ny 0 nz, Origin `origin` (the
+/// world position in metres of the block's corner, voxel (0, 0, 0)'s low corner), Spacing h h h,
+/// one CellData array `name` (Float32, raw appended), FieldData `units` ("name: unit"),
+/// `length_unit`, `axes`, `voxel_size_m` and `world_origin_m` (Float64 ×3). Used for the
+/// ensemble's probability.vti.
+/// @throw RuntimeError naming `path` when the grid is empty or the file cannot be written
+void writeScalarVti(const Grid3<float>& grid, const std::string& name, const std::string& unit, double voxelSize,
+                    const std::array<double, 3>& origin, const std::string& path);
+
 void writeSkeletonVtp(const morpho::Skeleton& skeleton, const std::string& path, const Domain* domain = nullptr);
 
 }  // namespace cavesim::formats

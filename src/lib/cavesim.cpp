@@ -22,6 +22,7 @@
 #include "sim/scenario_toml.h"
 #include "sim/stage1.h"
 #include "sim/stage2.h"
+#include "site/site.h"
 
 #ifndef CAVESIM_VERSION
 #define CAVESIM_VERSION "unknown"
@@ -33,7 +34,7 @@ static_assert(int(kFlagSource) == int(cavesim::kSource) && int(kFlagSink) == int
                   int(kFlagProtochannel) == int(cavesim::kProtochannel) &&
                   int(kFlagChannel) == int(cavesim::kChannel) && int(kFlagObstacle) == int(cavesim::kObstacle) &&
                   int(kFlagFracture) == int(cavesim::kFracture) &&
-                  int(kFlagFeatureChannel) == int(cavesim::kFeatureChannel),
+                  int(kFlagFeatureChannel) == int(cavesim::kFeatureChannel) && int(kFlagInert) == int(cavesim::kInert),
               "public flag bits must equal sim/domain.h's");
 
 std::string version() {
@@ -484,7 +485,9 @@ void Result::writeState(const std::string& path) const {
 }
 
 Result run(const Scenario& scenario, const RunOptions& options) {
-    const cavesim::Scenario& s = scenario.impl().scenario;
+    cavesim::Scenario withSite = scenario.impl().scenario;
+    site::loadSite(withSite);  // a [site]'s files: read, checked and sampled onto the block
+    const cavesim::Scenario& s = withSite;
     const int threads = options.threads > 0 ? options.threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     const CancelToken cancel = options.cancel;

@@ -19,15 +19,16 @@
 namespace cavesim::mesh {
 namespace {
 
-openvdb::math::Transform::Ptr transformFor(double voxelSize) {
+openvdb::math::Transform::Ptr transformFor(double voxelSize, const std::array<double, 3>& origin = {0, 0, 0}) {
     auto xf = openvdb::math::Transform::createLinearTransform(voxelSize);
-    // Index (i,j,k) is the voxel whose centre is at (i+0.5)·h.
-    xf->postTranslate(openvdb::Vec3d(0.5 * voxelSize));
+    // Index (i,j,k) is the voxel whose centre is at origin + (i+0.5)·h.
+    xf->postTranslate(
+        openvdb::Vec3d(origin[0] + 0.5 * voxelSize, origin[1] + 0.5 * voxelSize, origin[2] + 0.5 * voxelSize));
     return xf;
 }
 
 template <typename GridT, typename T>
-typename GridT::Ptr denseToGrid(const Grid3<T>& g, double voxelSize) {
+typename GridT::Ptr denseToGrid(const Grid3<T>& g, double voxelSize, const std::array<double, 3>& origin = {0, 0, 0}) {
     auto grid = GridT::create(T(0));
     auto acc = grid->getAccessor();
     const Dims& d = g.dims;
@@ -37,7 +38,7 @@ typename GridT::Ptr denseToGrid(const Grid3<T>& g, double voxelSize) {
                 const T v = g.at(i, j, k);
                 if (v != T(0)) acc.setValue(openvdb::Coord(i, j, k), v);
             }
-    grid->setTransform(transformFor(voxelSize));
+    grid->setTransform(transformFor(voxelSize, origin));
     return grid;
 }
 
@@ -103,15 +104,16 @@ void makeUuidDeterministic(const std::string& path) {
 
 }  // namespace
 
-void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, double voxelSize) {
+void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, double voxelSize,
+              const std::array<double, 3>& origin) {
     openvdb::initialize();
     openvdb::GridPtrVec out;
     for (const NamedGrid& ng : grids) {
         openvdb::GridBase::Ptr g;
         if (ng.floats)
-            g = denseToGrid<openvdb::FloatGrid>(*ng.floats, voxelSize);
+            g = denseToGrid<openvdb::FloatGrid>(*ng.floats, voxelSize, origin);
         else if (ng.ints)
-            g = denseToGrid<openvdb::Int32Grid>(*ng.ints, voxelSize);
+            g = denseToGrid<openvdb::Int32Grid>(*ng.ints, voxelSize, origin);
         else
             continue;
         g->setName(ng.name);

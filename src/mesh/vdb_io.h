@@ -4,6 +4,7 @@
 /// OpenVDB headers stay inside vdb_io.cpp; callers see only cavesim types.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -24,10 +25,12 @@ struct NamedGrid {
 };
 
 /// Writes the grids to one .vdb file, world transform = uniform scale `voxelSize` (metres),
-/// voxel (i,j,k) centred at ((i, j, k) + 0.5)·voxelSize.
+/// voxel (i,j,k) centred at `origin` + ((i, j, k) + 0.5)·voxelSize (`origin`: the world position of
+/// the block's low corner, `Domain::origin`; 0 without a site).
 /// @param background value treated as background for float grids (not stored)
 /// @throw RuntimeError when the file cannot be written
-void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, double voxelSize);
+void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, double voxelSize,
+              const std::array<double, 3>& origin = {0, 0, 0});
 
 /// Reads one named float grid back into a dense grid of `dims` (tests, `cavesim report`).
 /// @throw RuntimeError when the file or grid is missing

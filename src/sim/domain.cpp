@@ -9,8 +9,12 @@
 namespace cavesim {
 namespace {
 
-double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec3d& a, const Vec3d& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+Vec3d sub(const Vec3d& a, const Vec3d& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 
 /// Distance from p to the segment ab (index units).
 double segmentDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
@@ -28,6 +32,33 @@ std::vector<std::size_t> boxVoxels(const Dims& d, const VoxelBox& b) {
         for (int j = b.lo[1]; j <= b.hi[1]; ++j)
             for (int i = b.lo[0]; i <= b.hi[0]; ++i) out.push_back(d.index(i, j, k));
     return out;
+}
+
+/// The site's surfaces on the grid: inception horizons raise porosity, air above the land surface
+/// and insoluble rock below the base of the limestone become inert (porosity 0).
+void applySite(Domain& dom, const Scenario& s, const SiteData& site) {
+    const Dims& d = dom.dims;
+    if (site.nx != d.nx || site.ny != d.ny) throw InputError(s.path + ": the site data is not on the block's columns");
+    const double h = s.voxelSize, z0 = s.site.origin[2];
+    for (int j = 0; j < d.ny; ++j)
+        for (int i = 0; i < d.nx; ++i) {
+            const std::size_t col = std::size_t(i) + std::size_t(d.nx) * std::size_t(j);
+            for (int k = 0; k < d.nz; ++k) {
+                const double z = z0 + (k + 0.5) * h;
+                float& R = dom.porosity.at(i, j, k);
+                for (std::size_t n = 0; n < site.horizons.size() && n < s.siteHorizons.size(); ++n) {
+                    if (std::abs(z - site.horizons[n][col]) > 0.5 * s.siteHorizons[n].thickness * h) continue;
+                    R = std::max(R, float(s.siteHorizons[n].porosity));
+                    dom.flags.at(i, j, k) |= kFracture;
+                }
+                const bool air = !site.landSurface.empty() && z > site.landSurface[col];
+                const bool insoluble = !site.baseOfLimestone.empty() && z < site.baseOfLimestone[col];
+                if (air || insoluble) {
+                    R = 0.f;
+                    dom.flags.at(i, j, k) |= kInert;
+                }
+            }
+        }
 }
 
 }  // namespace
@@ -57,6 +88,16 @@ void placeTerminals(Domain& dom, const Scenario& s) {
         dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
         for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
     }
+    if (!s.siteData) return;
+    for (const SourceSpec& src : s.siteData->sources) {
+        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
+        dom.sourcePressure.push_back(src.pressure);
+        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
+    }
+    for (const SinkSpec& snk : s.siteData->sinks) {
+        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
+        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
+    }
 }
 
 Domain buildDomain(const Scenario& s, Rng& rng) {
@@ -79,7 +120,8 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
         const int r = int(std::ceil(o.radius));
         for (int k = std::max(0, int(o.center[2]) - r - 1); k <= std::min(d.nz - 1, int(o.center[2]) + r + 1); ++k)
             for (int j = std::max(0, int(o.center[1]) - r - 1); j <= std::min(d.ny - 1, int(o.center[1]) + r + 1); ++j)
-                for (int i = std::max(0, int(o.center[0]) - r - 1); i <= std::min(d.nx - 1, int(o.center[0]) + r + 1); ++i) {
+                for (int i = std::max(0, int(o.center[0]) - r - 1); i <= std::min(d.nx - 1, int(o.center[0]) + r + 1);
+                     ++i) {
                     const double dist = std::sqrt(dot(sub({double(i), double(j), double(k)}, o.center),
                                                       sub({double(i), double(j), double(k)}, o.center)));
                     if (dist >= o.radius) continue;
@@ -119,7 +161,11 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
             int lo[3], hi[3];
             for (int ax = 0; ax < 3; ++ax) {
                 lo[ax] = std::max(0, int(std::floor(std::min(a[ax], b[ax]) - rad)));
-                hi[ax] = std::min((ax == 0 ? d.nx : ax == 1 ? d.ny : d.nz) - 1, int(std::ceil(std::max(a[ax], b[ax]) + rad)));
+                hi[ax] = std::min((ax == 0   ? d.nx
+                                   : ax == 1 ? d.ny
+                                             : d.nz) -
+                                      1,
+                                  int(std::ceil(std::max(a[ax], b[ax]) + rad)));
             }
             for (int k = lo[2]; k <= hi[2]; ++k)
                 for (int j = lo[1]; j <= hi[1]; ++j)
@@ -133,8 +179,10 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
         }
     }
 
+    if (s.siteData) applySite(dom, s, *s.siteData);
     for (auto& R : dom.porosity.data) R = std::clamp(R, 0.f, 1.f);
 
+    dom.origin = {s.site.origin[0], s.site.origin[1], s.site.origin[2]};
     placeTerminals(dom, s);
     dom.porosity0 = dom.porosity;
     return dom;

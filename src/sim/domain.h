@@ -17,13 +17,16 @@ namespace cavesim {
 
 /// Per-voxel flag bits.
 enum VoxelFlag : std::uint8_t {
-    kSource = 1u << 0,        ///< injects water (stage 2), seeds a zone (stage 1)
-    kSink = 1u << 1,          ///< drains water; pressure 0
-    kProtochannel = 1u << 2,  ///< traced by stage 1 or given as [[rock.channel]]
-    kChannel = 1u << 3,       ///< eroded past the channel threshold in stage 2 (the cave)
-    kObstacle = 1u << 4,      ///< inside a spherical obstacle
-    kFracture = 1u << 5,      ///< inside a bedding plane or fracture slab
-    kFeatureChannel = 1u << 6 ///< inside a [[rock.channel]] polyline
+    kSource = 1u << 0,          ///< injects water (stage 2), seeds a zone (stage 1)
+    kSink = 1u << 1,            ///< drains water; pressure 0
+    kProtochannel = 1u << 2,    ///< traced by stage 1 or given as [[rock.channel]]
+    kChannel = 1u << 3,         ///< eroded past the channel threshold in stage 2 (the cave)
+    kObstacle = 1u << 4,        ///< inside a spherical obstacle
+    kFracture = 1u << 5,        ///< inside a bedding plane or fracture slab
+    kFeatureChannel = 1u << 6,  ///< inside a [[rock.channel]] polyline
+    /// Not karst rock ([site]): air above the land surface or insoluble rock below the base of the
+    /// limestone. Porosity 0 (holds no water), never eroded, never cave.
+    kInert = 1u << 7
 };
 
 /// Explicit random engine, always passed by reference (never copied, never global).
@@ -32,9 +35,12 @@ using Rng = std::mt19937_64;
 struct Domain {
     Dims dims;
     double voxelSize = 1.0;  ///< metres
+    /// World position (metres) of the block's low corner, voxel (0, 0, 0)'s corner: `[site] origin`
+    /// (0 without a site). World = origin + index-space metres; the grids do not depend on it.
+    std::array<double, 3> origin{0, 0, 0};
 
-    Grid3<float> porosity;    ///< R in [0, 1]: water capacity
-    Grid3<float> porosity0;   ///< R at build time
+    Grid3<float> porosity;   ///< R in [0, 1]: water capacity
+    Grid3<float> porosity0;  ///< R at build time
     Grid3<std::uint8_t> flags;
     Grid3<std::int32_t> zone;  ///< stage-1 zone = source index, -1 where none
     Grid3<float> pressure;     ///< stage 2

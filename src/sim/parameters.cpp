@@ -205,6 +205,17 @@ P voxelBox(const char* key, VoxelBox R::*m, bool corners, const char* descriptio
     return p;
 }
 
+/// A file path; "" means none.
+template <typename R>
+P path(const char* key, std::string R::*m, const char* description) {
+    P p = base(key, m, ParamType::kPath, description);
+    p.shapeText = "a file path of at most 4096 characters (relative to the scenario file's folder), or \"\" for none";
+    p.rangeText = "a path, or `\"\"`";
+    p.get = [m](const void* r) { return ParamValue(static_cast<const R*>(r)->*m); };
+    p.set = [m](void* r, const ParamValue& v) { static_cast<R*>(r)->*m = std::get<std::string>(v); };
+    return p;
+}
+
 /// A plain table whose record is `R` inside the scenario.
 template <typename R>
 ParamSection table(const char* path, R* (*of)(Scenario&), const char* heading, std::vector<P> params) {
@@ -263,6 +274,9 @@ Stage2Options* stage2(Scenario& s) {
 }
 OutputOptions* output(Scenario& s) {
     return &s.output;
+}
+SiteSettings* site(Scenario& s) {
+    return &s.site;
 }
 
 std::vector<ParamSection> makeRegistry() {
@@ -596,6 +610,60 @@ std::vector<ParamSection> makeRegistry() {
                    "side the normals of cave.glb face: `inward` shows the walls from inside in renderers that cull "
                    "back faces (games, walk-throughs); `cavesim run --mesh-normals` overrides"),
         }));
+
+    ParamSection& siteSec = r.emplace_back(table<SiteSettings>(
+        "site", site, "a real site: terrain, sinkholes, springs, geological surfaces",
+        {
+            real3("origin", &SiteSettings::origin, rng(-1e9, 1e9),
+                  "world position of the block's low corner (voxel (0, 0, 0)'s corner) in the site's projected CRS: "
+                  "easting, northing, elevation")
+                .unitIs("m"),
+            path("dem", &SiteSettings::dem,
+                 "land surface (GeoTIFF, projected CRS in metres): voxels whose centre lies above it are air"),
+            path("sinkholes", &SiteSettings::sinkholes,
+                 "CSV with a header naming `x,y[,z],name[,pressure]` (world metres): each row a [[source]] voxel; "
+                 "without z on the land surface"),
+            path("springs", &SiteSettings::springs,
+                 "CSV as `sinkholes`: each row a [[sink]] voxel; without z on the land surface"),
+            path("base_of_limestone", &SiteSettings::baseOfLimestone,
+                 "surface (GeoTIFF, or XYZ points `x y z` per line): voxels whose centre lies below it are insoluble"),
+            path("water_table", &SiteSettings::waterTable,
+                 "surface (GeoTIFF or XYZ points): read, checked and kept with the site (report); does not yet "
+                 "change the simulation"),
+            real("sinkhole_pressure", &SiteSettings::sinkholePressure, rng(0, 1e6, "(]"),
+                 "pressure of a sinkhole whose CSV row gives none (as [[source]] `pressure`)")
+                .unitIs("relative"),
+        }));
+    siteSec.prose =
+        "Places the block in a real site. Every file is in one projected CRS in metres (GeoTIFFs carry it; CSV\n"
+        "and XYZ files are taken to be in the DEM's): `origin` puts the block's low corner at those world\n"
+        "coordinates, so voxel `(i, j, k)` spans `origin + [i, i+1] · voxel_size` in x (and likewise y, z).\n"
+        "A surface is sampled at each column's centre (GeoTIFF: bilinear; XYZ: inverse-distance weighting\n"
+        "of the 8 nearest points, power 2). Voxels that are not karst rock — air above the DEM, insoluble\n"
+        "rock below `base_of_limestone` — get porosity 0 and the flag `inert` (128): they hold no water, are\n"
+        "never eroded and are never cave. Sinkholes and springs become sources and sinks after the\n"
+        "`[[source]]` and `[[sink]]` entries; a point without z sits in the highest non-air voxel of its\n"
+        "column. The index ↔ world transform is written to state.vdb (its transform), state.vti (Origin)\n"
+        "and report.json (`world_from_index`); meshes, skeletons and the other files stay in block metres\n"
+        "(add `origin`). Bad site input — a file that is not a GeoTIFF, a geographic CRS (degrees), CRSs\n"
+        "that disagree, a point outside the block, a surface that leaves the block or does not cover it —\n"
+        "is an error naming the file and the value, exit 2. Paths are relative to the scenario file's folder.";
+
+    ParamSection& horizon = r.emplace_back(tableArray(
+        "site.horizon", &Scenario::siteHorizons, 64, "inception horizons",
+        {
+            P(path("file", &SiteHorizon::file, "the horizon's surface (GeoTIFF or XYZ points), as `base_of_limestone`"))
+                .isRequired("\"horizon.tif\""),
+            real("thickness", &SiteHorizon::thickness, rng(0, 1e6, "(]"),
+                 "slab thickness, measured vertically around the surface")
+                .unitIs("voxels"),
+            real("porosity", &SiteHorizon::porosity, rng(0, 1),
+                 "porosity inside the slab (the larger of this and the rock's); flagged as fracture"),
+        }));
+    horizon.exampleCommented = true;
+    horizon.prose =
+        "A slab of raised porosity along a surface read from a file, like a `[[rock.plane]]` bedding "
+        "plane that follows the site's geology. At most 64 horizons.";
     return r;
 }
 
@@ -691,6 +759,8 @@ std::string typeText(const Param& p) {
             return "[int ×3]";
         case ParamType::kVoxelBox:
             return "[[int ×3], [int ×3]]";
+        case ParamType::kPath:
+            return "string (path)";
     }
     return "?";
 }
@@ -792,14 +862,18 @@ std::string exampleScenarioToml() {
            "# Each comment gives the meaning, the unit and the allowed range; docs/scenario-format.md has more.\n";
     for (const ParamSection& s : scenarioParameters()) {
         out << "\n";
-        if (!s.path.empty()) out << s.header() << (s.isArray ? "  # one entry of possibly many" : "") << "\n";
+        const std::string off = s.exampleCommented ? "# " : "";
+        if (!s.path.empty())
+            out << off << s.header() << (s.isArray ? "  # one entry of possibly many" : "")
+                << (s.exampleCommented ? " (it needs its files: remove the '# ')" : "") << "\n";
         for (const Param& p : s.params) {
             out << "# " << p.description << " (unit: " << p.unit << "; range: " << rangeText(p) << ")\n";
             if (p.type == ParamType::kVoxelBox) {
                 out << "# " << p.key << " = [[0, 0, 0], [1, 1, 1]]\n";
                 continue;
             }
-            out << p.key << " = " << (p.example.empty() ? paramValueText(p.get(s.defaults())) : p.example) << "\n";
+            out << off << p.key << " = " << (p.example.empty() ? paramValueText(p.get(s.defaults())) : p.example)
+                << "\n";
         }
     }
     return out.str();

@@ -35,6 +35,7 @@ enum class ParamType : std::uint8_t {
     kIntList,     ///< [int, …]
     kVoxel,       ///< `at = [x, y, z]`: a one-voxel box (the record's box)
     kVoxelBox,    ///< `box = [[x0, y0, z0], [x1, y1, z1]]` (the record's box)
+    kPath,        ///< a file path (relative to the scenario file's folder), or "" for none
 };
 
 /// A key's value, independent of the struct it lives in: integers and choices as written in TOML.
@@ -86,6 +87,9 @@ struct ParamSection {
     std::string heading;  ///< reference heading after the table name
     std::string prose;    ///< reference text before the key table
     std::string notes;    ///< reference text after the key table
+    /// The example scenario shows this section commented out (its entries name files that the
+    /// example does not ship).
+    bool exampleCommented = false;
     std::vector<Param> params;
     /// The records: one for a table, the vector's elements for a table of arrays.
     std::function<std::size_t(const Scenario&)> count;
@@ -107,7 +111,7 @@ struct ParamSection {
 };
 
 /// Every section, in file order: top level, domain, rock, rock.noise, rock.sphere, rock.plane,
-/// rock.channel, source, sink, stage1, stage2, output.
+/// rock.channel, source, sink, stage1, stage2, output, site, site.horizon.
 const std::vector<ParamSection>& scenarioParameters();
 
 /// The section at `path` ("stage2", "rock.sphere"); throws RuntimeError when there is none.

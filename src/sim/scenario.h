@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -71,6 +72,38 @@ struct SinkSpec {
     int line = 0;
 };
 
+/// An inception horizon of a site: a slab of raised porosity along a surface read from a file.
+struct SiteHorizon {
+    std::string file;        ///< GeoTIFF or XYZ points, as written (relative to the scenario file)
+    double thickness = 1.0;  ///< slab thickness in voxels, measured vertically
+    double porosity = 0.3;   ///< porosity inside the slab
+};
+
+/// A real site (`[site]`): files in one projected CRS (metres) and where the block sits in it.
+/// Empty file names mean "none". The files are read by the site module (src/site), which fills
+/// `Scenario::siteData`; the simulation only sees that.
+struct SiteSettings {
+    Vec3d origin{0, 0, 0};          ///< world position (metres, the CRS's x, y and elevation) of the block's low corner
+    std::string dem;                ///< land surface, GeoTIFF: voxels whose centre is above it are air
+    std::string sinkholes;          ///< CSV x,y[,z],name[,pressure]: sources
+    std::string springs;            ///< CSV x,y[,z],name[,pressure]: sinks
+    std::string baseOfLimestone;    ///< GeoTIFF or XYZ: voxels whose centre is below it are insoluble
+    std::string waterTable;         ///< GeoTIFF or XYZ: kept on the site data (geology to come)
+    double sinkholePressure = 1.0;  ///< pressure of a sinkhole whose CSV row has none
+};
+
+/// A site's files sampled onto the block (filled by `site::loadSite`): per column (i, j) at index
+/// i + nx · j, elevations in world metres at the column's centre; an empty vector: not given.
+struct SiteData {
+    int nx = 0, ny = 0;
+    std::vector<double> landSurface, baseOfLimestone, waterTable;
+    std::vector<std::vector<double>> horizons;  ///< one per Scenario::siteHorizons entry
+    std::vector<SourceSpec> sources;            ///< sinkholes, after the scenario's [[source]] entries
+    std::vector<SinkSpec> sinks;                ///< springs, after the scenario's [[sink]] entries
+    std::vector<std::string> sourceNames, sinkNames;
+    std::string crs;  ///< the CRS's name (e.g. "WGS 84 / UTM zone 33N"); empty without a DEM or raster
+};
+
 struct Scenario {
     std::string name = "scenario";
     std::uint64_t seed = 1;
@@ -89,6 +122,10 @@ struct Scenario {
     Stage1Options stage1;
     Stage2Options stage2;
     OutputOptions output;
+    SiteSettings site;
+    std::vector<SiteHorizon> siteHorizons;  ///< [[site.horizon]]
+    /// The site's files on the block; null until `site::loadSite` reads them (or without [site]).
+    std::shared_ptr<const SiteData> siteData;
 
     std::string path;  ///< file it came from ("<built-in>" for the default)
 };

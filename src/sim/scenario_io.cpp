@@ -412,6 +412,15 @@ void readValue(TableReader& r, const ParamSection& section, const Param& p, cons
             p.set(record, str->get());
             break;
         }
+        case ParamType::kPath: {
+            auto str = n->as_string();
+            const std::string allowed = "must be " + p.shapeText;
+            if (!str || str->get().size() > 4096) r.fail(key, n, allowed);
+            for (char c : str->get())
+                if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) r.fail(key, n, allowed);
+            p.set(record, str->get());
+            break;
+        }
         case ParamType::kChoice: {
             std::string list;
             for (const auto& a : p.choices) list += (list.empty() ? "\"" : ", \"") + std::string(a.name) + "\"";
@@ -588,11 +597,12 @@ void validateScenario(const Scenario& s) {
                 throw InputError(os.str());
             }
     }
-    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty()) {
+    // Sinkholes and springs of a [site] are sources and sinks too (read later, by the site module).
+    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.site.sinkholes.empty()) {
         throw InputError(s.path + ": key '" + source.path + "': at least one " + source.header() +
                          " is needed when a stage is enabled");
     }
-    if (s.stage2.enabled && s.sinks.empty()) {
+    if (s.stage2.enabled && s.sinks.empty() && s.site.springs.empty()) {
         const auto [stage2, enabled] = findParam(s, &s.stage2.enabled);
         throw InputError(s.path + ": key '" + stage2->qualified(enabled->key) +
                          "' = true: stage 2 needs at least one " + sink.header() + " (add a " + sink.header() +
@@ -684,6 +694,7 @@ void insertValue(toml::table& t, const Param& p, const ParamValue& v) {
             break;
         case ParamType::kString:
         case ParamType::kChoice:
+        case ParamType::kPath:
             t.insert(p.key, std::get<std::string>(v));
             break;
         case ParamType::kInt3:

@@ -19,6 +19,8 @@ namespace stage2 {
 namespace {
 
 constexpr std::uint8_t kOpen = kSource | kSink;
+/// Voxels erosion never touches: the terminals, and rock that is not karst ([site]: air, insoluble).
+constexpr std::uint8_t kNotEroded = kOpen | kInert;
 constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
 
 /// Contents below this (porosity units, i.e. a 10⁻⁹ part of a voxel) stay where they are: a film
@@ -766,7 +768,7 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
         if (!st.nearSender[c.slot]) return;
         forEachMasked(d, c, work, [&](std::size_t v, std::size_t p, int, int, int) {
             st.erodedHere[p] = 0;
-            if (dom.flags[v] & kOpen) return;
+            if (dom.flags[v] & kNotEroded) return;
             const double flow = g.wa * st.fa[p] + st.fc[p];
             if (flow > 0) {
                 const float R = dom.porosity[v];

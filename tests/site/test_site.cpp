@@ -1,0 +1,228 @@
+// Site inputs (src/site): GeoTIFF, CSV and XYZ files placed on the block at known coordinates,
+// and each class of bad input refused with a message naming the file and the value.
+//
+// The block: 8 × 6 × 10 voxels of 10 m, low corner at (500000, 4000000, 100) in UTM zone 33N:
+// column (i, j) is centred at (500005 + 10 i, 4000005 + 10 j), voxel k at elevation 105 + 10 k.
+// The test DEM has one pixel per column, pixel-centre aligned, elevation 150 + i: bilinear
+// sampling at the column centres gives it exactly.
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+#include <ogr_spatialref.h>
+
+#include "core/error.h"
+#include "sim/domain.h"
+#include "site/site.h"
+
+using namespace cavesim;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kX0 = 500000, kY0 = 4000000, kZ0 = 100, kH = 10;
+
+struct SiteTest : ::testing::Test {
+    fs::path dir;
+    void SetUp() override {
+        GDALAllRegister();
+        dir = fs::temp_directory_path() / ("cavesim_site_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    /// A north-up single-band Float64 GeoTIFF: pixel (c, r) covers x0 + [c, c+1]·px, yTop − [r, r+1]·px.
+    std::string tiff(const std::string& name, int epsg, double x0, double yTop, double px, int w, int h,
+                     const std::function<double(int, int)>& value, const char* driver = "GTiff") {
+        const std::string path = (dir / name).string();
+        GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+        GDALDataset* ds = mem->Create("", w, h, 1, GDT_Float64, nullptr);
+        double gt[6] = {x0, px, 0, yTop, 0, -px};
+        ds->SetGeoTransform(gt);
+        OGRSpatialReference srs;
+        srs.importFromEPSG(epsg);
+        ds->SetSpatialRef(&srs);
+        std::vector<double> v(std::size_t(w) * std::size_t(h));
+        for (int r = 0; r < h; ++r)
+            for (int c = 0; c < w; ++c) v[std::size_t(r) * std::size_t(w) + std::size_t(c)] = value(c, r);
+        EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, w, h, v.data(), w, h, GDT_Float64, 0, 0), CE_None);
+        GDALDataset* out = GetGDALDriverManager()->GetDriverByName(driver)->CreateCopy(path.c_str(), ds, FALSE, nullptr,
+                                                                                       nullptr, nullptr);
+        GDALClose(out);
+        GDALClose(ds);
+        return path;
+    }
+    /// The test DEM: one pixel per column, elevation 150 + i (column i), in `epsg`.
+    std::string dem(const std::string& name = "dem.tif", int epsg = 32633) {
+        return tiff(name, epsg, kX0, kY0 + 6 * kH, kH, 8, 6, [](int c, int) { return 150.0 + c; });
+    }
+    std::string text(const std::string& name, const std::string& body) {
+        std::ofstream((dir / name).string()) << body;
+        return (dir / name).string();
+    }
+    Scenario scenario() {
+        Scenario s;
+        s.name = "site";
+        s.size = {8, 6, 10};
+        s.voxelSize = kH;
+        s.site.origin = {kX0, kY0, kZ0};
+        s.stage1.enabled = false;
+        s.stage2.enabled = false;
+        s.path = (dir / "s.toml").string();
+        return s;
+    }
+    /// loadSite's error message, or "" when it accepts.
+    std::string error(Scenario s) {
+        try {
+            site::loadSite(s);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    }
+};
+
+}  // namespace
+
+TEST_F(SiteTest, DemSinkholesSpringsAndSurfacesLandOnKnownVoxels) {
+    Scenario s = scenario();
+    s.site.dem = dem();
+    // Relative paths are taken from the scenario file's folder.
+    text("sinkholes.csv", "x,y,name,pressure\n500035,4000025,A,2.0\n500005,4000055,B,\n");
+    s.site.sinkholes = "sinkholes.csv";
+    text("springs.csv", "name,x,y,z\nS1,500075,4000005,125\n");
+    s.site.springs = "springs.csv";
+    s.site.sinkholePressure = 0.5;
+    s.site.baseOfLimestone = text("base.xyz", "x y z\n500000 4000000 121\n500100 4000000 121\n500000 4000100 121\n");
+    s.siteHorizons.push_back({text("h.xyz", "500000,4000000,135\n500100,4000000,135\n500050,4000100,135\n"), 1.0, 0.3});
+    site::loadSite(s);
+    ASSERT_TRUE(s.siteData);
+    const SiteData& d = *s.siteData;
+    EXPECT_EQ(d.crs, "WGS 84 / UTM zone 33N");
+    EXPECT_EQ(s.site.sinkholes, (dir / "sinkholes.csv").string());  // made absolute
+    ASSERT_EQ(d.landSurface.size(), 48u);
+    for (int j = 0; j < 6; ++j)
+        for (int i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(d.landSurface[std::size_t(i + 8 * j)], 150.0 + i);
+    for (double z : d.baseOfLimestone) EXPECT_DOUBLE_EQ(z, 121.0);
+    // Sinkhole A: x 500035 → i 3, y 4000025 → j 2, no z: land 153 m, highest centre below it 145 m → k 4.
+    ASSERT_EQ(d.sources.size(), 2u);
+    EXPECT_EQ(d.sources[0].box.lo, (std::array<int, 3>{3, 2, 4}));
+    EXPECT_EQ(d.sources[0].pressure, 2.0);
+    // Sinkhole B: (0, 5), land 150 m → k 4 (centre 145 m); no pressure in its row → sinkhole_pressure.
+    EXPECT_EQ(d.sources[1].box.lo, (std::array<int, 3>{0, 5, 4}));
+    EXPECT_EQ(d.sources[1].pressure, 0.5);
+    EXPECT_EQ(d.sourceNames[1], "B");
+    // Spring S1 with z 125 m: (7, 0, 2).
+    ASSERT_EQ(d.sinks.size(), 1u);
+    EXPECT_EQ(d.sinks[0].box.lo, (std::array<int, 3>{7, 0, 2}));
+
+    Rng rng(1);
+    const Domain dom = buildDomain(s, rng);
+    EXPECT_EQ(dom.origin, (std::array<double, 3>{kX0, kY0, kZ0}));
+    for (int j = 0; j < 6; ++j)
+        for (int i = 0; i < 8; ++i)
+            for (int k = 0; k < 10; ++k) {
+                const double z = kZ0 + (k + 0.5) * kH;
+                const bool inert = z > 150.0 + i || z < 121.0;  // air, or below the base of the limestone
+                EXPECT_EQ(bool(dom.flags.at(i, j, k) & kInert), inert) << i << " " << j << " " << k;
+                if (inert) {
+                    EXPECT_EQ(dom.porosity.at(i, j, k), 0.f);
+                }
+                EXPECT_EQ(bool(dom.flags.at(i, j, k) & kFracture), k == 3);  // the horizon at 135 m
+            }
+    EXPECT_TRUE(dom.flags.at(3, 2, 4) & kSource);
+    EXPECT_TRUE(dom.flags.at(7, 0, 2) & kSink);
+    EXPECT_FLOAT_EQ(dom.porosity.at(1, 1, 3), 0.3f);
+}
+
+TEST_F(SiteTest, NotAGeoTiff) {
+    Scenario s = scenario();
+    s.site.dem = text("dem.tif", "this is not a raster\n");
+    const std::string e = error(s);
+    EXPECT_NE(e.find("dem.tif"), std::string::npos) << e;
+    EXPECT_NE(e.find("not a GeoTIFF"), std::string::npos) << e;
+    // A raster of another format is named by its driver.
+    s.site.dem = tiff(
+        "dem.asc", 32633, kX0, kY0 + 60, kH, 8, 6, [](int, int) { return 150.0; }, "AAIGrid");
+    const std::string e2 = error(s);
+    EXPECT_NE(e2.find("not a GeoTIFF (GDAL reads it as AAIGrid)"), std::string::npos) << e2;
+}
+
+TEST_F(SiteTest, GeographicCrsIsRefused) {
+    Scenario s = scenario();
+    s.site.dem = tiff("deg.tif", 4326, 15.0, 45.0, 0.001, 8, 6, [](int, int) { return 150.0; });
+    const std::string e = error(s);
+    EXPECT_NE(e.find("deg.tif"), std::string::npos) << e;
+    EXPECT_NE(e.find("geographic CRS 'WGS 84' (degrees)"), std::string::npos) << e;
+}
+
+TEST_F(SiteTest, CrssThatDisagreeAreRefused) {
+    Scenario s = scenario();
+    s.site.dem = dem();
+    s.site.baseOfLimestone = tiff("base.tif", 32634, kX0, kY0 + 60, kH, 8, 6, [](int, int) { return 120.0; });
+    const std::string e = error(s);
+    EXPECT_NE(e.find("base.tif: CRS 'WGS 84 / UTM zone 34N' differs from the CRS 'WGS 84 / UTM zone 33N'"),
+              std::string::npos)
+        << e;
+}
+
+TEST_F(SiteTest, PointsOutsideTheBlockAreRefused) {
+    Scenario s = scenario();
+    s.site.dem = dem();
+    s.site.sinkholes = text("sinkholes.csv", "x,y,name\n500035,4000025,A\n499990,4000025,Far\n");
+    std::string e = error(s);
+    EXPECT_NE(e.find("sinkholes.csv:3: sinkhole 'Far' at x = 499990, y = 4000025 m lies outside the block"),
+              std::string::npos)
+        << e;
+    s.site.sinkholes.clear();
+    s.site.springs = text("springs.csv", "x,y,z,name\n500035,4000025,99,Deep\n");
+    e = error(s);
+    EXPECT_NE(e.find("spring 'Deep' at x = 500035, y = 4000025, z = 99 m lies outside the block (z 100–200 m)"),
+              std::string::npos)
+        << e;
+    s.site.springs = text("springs2.csv", "x,y,z,name\n500035,4000025,190,High\n");
+    e = error(s);
+    EXPECT_NE(e.find("lies above the land surface (153 m there)"), std::string::npos) << e;
+}
+
+TEST_F(SiteTest, SurfacesThatLeaveOrMissTheBlockAreRefused) {
+    Scenario s = scenario();
+    s.site.dem =
+        tiff("high.tif", 32633, kX0, kY0 + 60, kH, 8, 6, [](int c, int r) { return c == 6 && r == 0 ? 250.0 : 150.0; });
+    std::string e = error(s);
+    // Pixel (6, 0) is column (6, 5).
+    EXPECT_NE(e.find("high.tif: the surface leaves the block: elevation 250 m at column (6, 5)"), std::string::npos)
+        << e;
+    EXPECT_NE(e.find("[100, 200] m"), std::string::npos) << e;
+    s.site.dem = tiff("small.tif", 32633, kX0, kY0 + 60, kH, 4, 6, [](int, int) { return 150.0; });
+    e = error(s);
+    EXPECT_NE(e.find("small.tif: does not cover the block: no data at column (4, 0)"), std::string::npos) << e;
+    s.site.dem.clear();
+    s.site.waterTable = text("wt.xyz", "500000 4000000 90\n500100 4000000 90\n500000 4000100 90\n");
+    e = error(s);
+    EXPECT_NE(e.find("wt.xyz: the surface leaves the block: elevation 90 m"), std::string::npos) << e;
+}
+
+TEST_F(SiteTest, MissingFilesAndMalformedCsvAreRefused) {
+    Scenario s = scenario();
+    s.site.dem = (dir / "nope.tif").string();
+    EXPECT_NE(error(s).find("nope.tif: no such file"), std::string::npos);
+    s.site.dem.clear();
+    s.site.sinkholes = text("bad.csv", "x,y,label\n1,2,A\n");
+    EXPECT_NE(error(s).find("bad.csv:1: column 'label' is not one of x, y, z, name, pressure"), std::string::npos);
+    s.site.sinkholes = text("bad2.csv", "x,y,name\n500035,north,A\n");
+    EXPECT_NE(error(s).find("bad2.csv:2: y = 'north' is not a number"), std::string::npos);
+}
+
+TEST_F(SiteTest, NoSiteFilesChangeNothing) {
+    Scenario s = scenario();
+    site::loadSite(s);
+    EXPECT_FALSE(s.siteData);
+    EXPECT_TRUE(site::gdalAvailable());
+}
