@@ -89,6 +89,7 @@ struct Scenario {
     Stage1Options stage1;
     Stage2Options stage2;
     OutputOptions output;
+    SpeleothemOptions speleothems;
 
     std::string path;  ///< file it came from ("<built-in>" for the default)
 };
