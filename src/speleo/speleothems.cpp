@@ -252,6 +252,27 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
                     }
         }
     }
+    // Merging: a still point squeezed between growing walls (growing neighbours on both sides
+    // along an axis) moves with them, so a gap of a voxel or two between neighbours closes.
+    {
+        openvdb::FloatGrid::Ptr sp = openvdb::FloatGrid::create(0.f);
+        auto acc = sp->getAccessor();
+        for (std::size_t n = 0; n < s.size(); ++n)
+            if (a.speed[n] > 0) acc.setValue(s[n].c, float(a.speed[n]));
+        std::vector<double> extra(s.size(), 0.0);
+        for (std::size_t n = 0; n < s.size(); ++n) {
+            if (a.speed[n] > 0) continue;
+            for (int axis = 0; axis < 3; ++axis) {
+                for (int reach = 1; reach <= 2; ++reach) {
+                    Coord d(0, 0, 0);
+                    d[axis] = reach;
+                    const float lo = acc.getValue(s[n].c - d), hi = acc.getValue(s[n].c + d);
+                    if (lo > 0 && hi > 0) extra[n] = std::max(extra[n], double(std::min(lo, hi)));
+                }
+            }
+        }
+        for (std::size_t n = 0; n < s.size(); ++n) a.speed[n] = std::max(a.speed[n], extra[n]);
+    }
     std::sort(a.stalactites.begin(), a.stalactites.end(), [](const Stalactite& x, const Stalactite& y) {
         if (x.length != y.length) return x.length > y.length;
         return x.tip < y.tip;
