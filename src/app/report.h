@@ -34,6 +34,7 @@ struct RunRecord {
     Timing timing;
     nlohmann::json mesh;      ///< mesh statistics (null when no mesh was written)
     nlohmann::json analysis;  ///< {network, morphometry, graph_metrics, skeleton, category}
+    nlohmann::json speleothems;  ///< app/speleo_report.h (null when [speleothems] is off)
     nlohmann::json files = nlohmann::json::object();  ///< fingerprints of written files, by name
     nlohmann::json json;      ///< filled by writeReport: the report.json document
 };

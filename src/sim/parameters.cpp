@@ -608,7 +608,7 @@ std::vector<ParamSection> makeRegistry() {
             boolean("stalagmites", &SpeleothemOptions::stalagmites,
                     "grow a stalagmite on the floor below each active stalactite tip"),
             real("stalagmite_rate", &SpeleothemOptions::stalagmiteRate, rng(0, 100),
-                 "stalagmite apex growth rate as a multiple of its stalactite's α·l_Q"),
+                 "stalagmite apex growth rate as a multiple of the tip speed of the stalactite dripping on it"),
             real("stalagmite_radius", &SpeleothemOptions::stalagmiteRadius, rng(1e-3, 10, "(]"),
                  "stalagmite equilibrium radius: the growth rate falls as exp(-d²/(2R²)) with the horizontal "
                  "distance d from the drip axis")

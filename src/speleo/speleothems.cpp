@@ -235,7 +235,7 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         const double R = o.stalagmiteRadius;
         for (const Stalactite& st : a.stalactites) {
             if (!st.dripsOnFloor) continue;
-            const double W = o.stalagmiteRate * o.alpha * st.dripFactor * o.lQ;
+            const double W = o.stalagmiteRate * st.tipSpeed;
             const double zHi = st.dripPoint[2] + 0.5 * (st.tip[2] - st.dripPoint[2]);
             const Coord lo = Coord::round(grid.worldToIndex(
                 Vec3d(st.dripPoint[0] - 3 * R, st.dripPoint[1] - 3 * R, st.dripPoint[2] - 3 * R)));

@@ -22,8 +22,9 @@
 ///     its normal speed is w·cos θ, continuous with the ring around it.
 ///  4. **Stalagmites**: below each tip the drip falls to the first rock straight down; upward
 ///     facing rock near that point rises at W·exp(-d²/(2R²)) (d the horizontal distance from
-///     the drip axis, R `stalagmiteRadius`, W = stalagmiteRate·α_site·l_Q), a Gaussian reading of
-///     the equilibrium-radius profile of Kaufmann (2003).
+///     the drip axis, R `stalagmiteRadius`, W = stalagmiteRate × the tip speed of the stalactite
+///     above: the drip feeds both), a Gaussian reading of the equilibrium-radius profile of
+///     Kaufmann (2003).
 ///  5. The level set is advected by that normal speed (OpenVDB `LevelSetAdvection`, fifth-order
 ///     upwind WENO, TVD Runge-Kutta, its own CFL sub-steps, renormalised after each); speeds
 ///     are recomputed every step.
