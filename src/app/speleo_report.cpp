@@ -33,8 +33,11 @@ nlohmann::json speleothemsJson(const speleo::DecorationSummary& s) {
     j["max_speed_mm_per_yr"] = s.maxSpeed * 1000.0;
     j["voxel_size_m"] = s.voxelSize;
     j["level_set_voxels"] = s.levelSetVoxels;
-    j["mesh"] = {{"vertices", s.mesh.vertices}, {"faces", s.mesh.faces},     {"closed", s.mesh.closed},
-                 {"manifold", s.mesh.manifold}, {"components", s.mesh.components}};
+    j["mesh"] = {{"vertices", s.mesh.vertices},
+                 {"faces", s.mesh.faces},
+                 {"closed", s.mesh.closed},
+                 {"manifold", s.mesh.manifold},
+                 {"components", s.mesh.components}};
     j["seconds"] = {{"growth", s.secondsGrowth}, {"output", s.secondsOutput}};
     nlohmann::json table = nlohmann::json::array();
     for (std::size_t i = 0; i < s.stalactites.size() && i < 20; ++i) {
@@ -56,11 +59,11 @@ void writeSpeleothemsMarkdown(std::ostringstream& md, const nlohmann::json& repo
     const nlohmann::json& j = report["speleothems"];
     md << "\n## Speleothems\n\n"
        << j["stalactites"].get<long>() << " stalactite(s) after " << fmt(j["years"].get<double>(), 0) << " years ("
-       << j["steps"].get<int>() << " steps on a " << fmt(j["voxel_size_m"].get<double>() * 100, 1)
-       << " cm level set), " << j["drip_points_on_floor"].get<long>()
-       << " dripping onto the floor (stalagmites); longest " << fmt(j["longest_m"].get<double>() * 100, 1)
-       << " cm. Mesh `cave_decorated.obj` / `.ply` / `.glb`: " << j["mesh"]["faces"].get<long>()
-       << " faces, closed " << (j["mesh"]["closed"].get<bool>() ? "yes" : "no") << ", manifold "
+       << j["steps"].get<int>() << " steps on a " << fmt(j["voxel_size_m"].get<double>() * 100, 1) << " cm level set), "
+       << j["drip_points_on_floor"].get<long>() << " dripping onto the floor (stalagmites); longest "
+       << fmt(j["longest_m"].get<double>() * 100, 1)
+       << " cm. Mesh `cave_decorated.obj` / `.ply` / `.glb`: " << j["mesh"]["faces"].get<long>() << " faces, closed "
+       << (j["mesh"]["closed"].get<bool>() ? "yes" : "no") << ", manifold "
        << (j["mesh"]["manifold"].get<bool>() ? "yes" : "no") << ". Law and limits: docs/speleothems.md.\n\n";
     if (!j["largest"].empty()) {
         md << "| # | tip x, y, z (m) | length (cm) | radius (cm) | tip speed (mm/yr) | drip factor |\n"

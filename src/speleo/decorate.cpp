@@ -17,11 +17,15 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Vec3d sub3(const Vec3d& a, const Vec3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3d sub3(const Vec3d& a, const Vec3d& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 Vec3d cross3(const Vec3d& a, const Vec3d& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-double dot3(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot3(const Vec3d& a, const Vec3d& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 Vec3d unit3(const Vec3d& a) {
     const double l = std::sqrt(dot3(a, a));
     return l > 0 ? Vec3d{a[0] / l, a[1] / l, a[2] / l} : Vec3d{0, 0, 1};
@@ -36,7 +40,7 @@ std::string frameName(const char* stem, int frame) {
 /// A camera inside the cave looking at the stalactite from the side, a little below its tip.
 render::Camera closeUpCamera(const DecorationField& f, const Stalactite& st, int width, int height, double& reach) {
     const double size = std::max({st.length, 2 * st.radius, 0.1});
-    const Vec3d target{st.tip[0], st.tip[1], st.tip[2] + 0.4 * st.length};
+    const Vec3d target{st.tip[0], st.tip[1], st.tip[2] + 0.3 * st.length};
     render::Camera cam;
     cam.perspective = true;
     // Back away along the direction with the most air, trying eight azimuths.
@@ -46,14 +50,16 @@ render::Camera closeUpCamera(const DecorationField& f, const Stalactite& st, int
         const double a = k * 3.14159265358979323846 / 4;
         const Vec3d dir = unit3({std::cos(a), std::sin(a), -0.35});
         double d = 0;
-        for (double t = 0.05; t <= 4 * size + 0.5; t += 0.5 * f.voxelSize()) {
+        // From just outside the stalactite (the target is on its axis, inside it) into the air.
+        const double t0 = st.radius + 2 * f.voxelSize();
+        for (double t = t0; t <= t0 + 4 * size + 0.5; t += 0.5 * f.voxelSize()) {
             const Vec3d p{target[0] + t * dir[0], target[1] + t * dir[1], target[2] + t * dir[2]};
             if (f.distance(p) >= -f.voxelSize()) break;
             d = t;
         }
         if (d > bestD + 1e-9) bestD = d, bestDir = dir;
     }
-    const double back = std::max(0.05, 0.8 * bestD);
+    const double back = std::max(st.radius + 2 * f.voxelSize(), 0.9 * bestD);
     reach = back + 2 * size;
     cam.eye = {target[0] + back * bestDir[0], target[1] + back * bestDir[1], target[2] + back * bestDir[2]};
     cam.forward = unit3(sub3(target, cam.eye));
@@ -90,7 +96,8 @@ render::Image renderMesh(const mesh::TriangleMesh& m, const render::Camera& cam,
     for (const auto& t : m.triangles) {
         const auto &a = p[t[0]], &b = p[t[1]], &c = p[t[2]];
         if (a.depth <= 1e-3 || b.depth <= 1e-3 || c.depth <= 1e-3) continue;
-        const Vec3d n = unit3(cross3(sub3(m.vertices[t[1]], m.vertices[t[0]]), sub3(m.vertices[t[2]], m.vertices[t[0]])));
+        const Vec3d n =
+            unit3(cross3(sub3(m.vertices[t[1]], m.vertices[t[0]]), sub3(m.vertices[t[2]], m.vertices[t[0]])));
         const double head = std::abs(dot3(n, cam.forward)), diffuse = std::abs(dot3(n, light));
         const double zMid = (m.vertices[t[0]][2] + m.vertices[t[1]][2] + m.vertices[t[2]][2]) / 3;
         const double h = std::clamp((zMid - zLow) / std::max(zHigh - zLow, 1e-9), 0.0, 1.0);
@@ -138,11 +145,12 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
     std::vector<mesh::TriangleMesh> frameMeshes;
     std::vector<DecorationField> frameFields;
     std::vector<double> frameTimes;
-    const GrowthResult g = grow(field, o, frameYears, [&](double years, const DecorationField& f, const std::vector<Stalactite>&) {
-        if (int(frameFields.size()) >= frames) return;
-        frameFields.push_back(f);
-        frameTimes.push_back(years);
-    });
+    const GrowthResult g =
+        grow(field, o, frameYears, [&](double years, const DecorationField& f, const std::vector<Stalactite>&) {
+            if (int(frameFields.size()) >= frames) return;
+            frameFields.push_back(f);
+            frameTimes.push_back(years);
+        });
     sum.stalactites = g.stalactites;
     sum.steps = g.steps;
     sum.years = g.years;

@@ -27,10 +27,10 @@ struct DecorationSummary {
     std::vector<Stalactite> stalactites;  ///< on the final surface, largest first
     int steps = 0;
     double years = 0;
-    double maxSpeed = 0;          ///< m/yr
-    double voxelSize = 0;         ///< metres
-    long levelSetVoxels = 0;      ///< active voxels of the fine level set at the end
-    mesh::MeshStats mesh;         ///< of cave_decorated.obj
+    double maxSpeed = 0;                ///< m/yr
+    double voxelSize = 0;               ///< metres
+    long levelSetVoxels = 0;            ///< active voxels of the fine level set at the end
+    mesh::MeshStats mesh;               ///< of cave_decorated.obj
     std::vector<std::string> pictures;  ///< written, relative to the run folder
     double secondsGrowth = 0, secondsOutput = 0;
 };

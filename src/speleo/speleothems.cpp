@@ -31,12 +31,13 @@ using openvdb::Coord;
 using openvdb::FloatGrid;
 using openvdb::Vec3d;
 
-constexpr int kHalfWidth = 3;             // band half width, voxels
-constexpr double kShell = 2.0;            // stalactite points lie within this many voxels of the surface
-constexpr double kTipFacing = 0.7071;     // a tip faces down within 45° of vertical
+constexpr int kHalfWidth = 3;          // band half width, voxels
+constexpr double kShell = 2.0;         // stalactite points lie within this many voxels of the surface
+constexpr double kTipFacing = 0.7071;  // a tip faces down within 45° of vertical
 constexpr double kMinCos = 0.2;
-constexpr double kMinSinTheta = 0.1736;   // sin 10°: flatter walls beyond the tip do not grow           // cos θ floor of the tip's vertical speed
-constexpr double kDripNoiseScale = 1.0;   // metres, feature size of the drip variability
+constexpr double kMinSinTheta =
+    0.1736;  // sin 10°: flatter walls beyond the tip do not grow           // cos θ floor of the tip's vertical speed
+constexpr double kDripNoiseScale = 1.0;  // metres, feature size of the drip variability
 constexpr std::uint64_t kDripSalt = 0x9e3779b97f4a7c15ull;
 
 void initVdb() {
@@ -159,8 +160,8 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
     std::mt19937_64 rng(o.seed ^ kDripSalt);
     const GradientNoise dripNoise(rng);
     const double rTip = tipRadiusOf(o, h);
-    openvdb::tools::GridSampler<FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
-        grid.getConstAccessor(), grid.transform());
+    openvdb::tools::GridSampler<FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(grid.getConstAccessor(),
+                                                                                              grid.transform());
     std::vector<std::pair<double, double>> stalagmiteBoost;  // unused placeholder for clarity
 
     for (const std::vector<int>& members : groups) {
@@ -185,8 +186,8 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         st.length = top - tz;
         st.radius = radius;
         st.points = long(members.size());
-        st.dripFactor = std::exp(o.dripVariability *
-                                 dripNoise.sample(tx / kDripNoiseScale, ty / kDripNoiseScale, 0.5 + tz / kDripNoiseScale));
+        st.dripFactor = std::exp(o.dripVariability * dripNoise.sample(tx / kDripNoiseScale, ty / kDripNoiseScale,
+                                                                      0.5 + tz / kDripNoiseScale));
         const double alpha = o.alpha * st.dripFactor;
         // Step 2: Short's law outside the tip; the ring's mean vertical speed for step 3.
         double ringSum = 0;
@@ -237,8 +238,8 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
             if (!st.dripsOnFloor) continue;
             const double W = o.stalagmiteRate * st.tipSpeed;
             const double zHi = st.dripPoint[2] + 0.5 * (st.tip[2] - st.dripPoint[2]);
-            const Coord lo = Coord::round(grid.worldToIndex(
-                Vec3d(st.dripPoint[0] - 3 * R, st.dripPoint[1] - 3 * R, st.dripPoint[2] - 3 * R)));
+            const Coord lo = Coord::round(
+                grid.worldToIndex(Vec3d(st.dripPoint[0] - 3 * R, st.dripPoint[1] - 3 * R, st.dripPoint[2] - 3 * R)));
             const Coord hi =
                 Coord::round(grid.worldToIndex(Vec3d(st.dripPoint[0] + 3 * R, st.dripPoint[1] + 3 * R, zHi)));
             for (int k = lo.z(); k <= hi.z(); ++k)
@@ -385,8 +386,10 @@ DecorationField fieldFromFunction(const cavesim::Vec3d& lo, const cavesim::Vec3d
             for (int i = a.x(); i <= b.x(); ++i) {
                 const Vec3d x = g->indexToWorld(Coord(i, j, k));
                 const double d = caveDistance({x[0], x[1], x[2]});
-                if (std::abs(d) < band) acc.setValue(Coord(i, j, k), float(d));
-                else if (d < 0) acc.setValueOff(Coord(i, j, k), -band);
+                if (std::abs(d) < band)
+                    acc.setValue(Coord(i, j, k), float(d));
+                else if (d < 0)
+                    acc.setValueOff(Coord(i, j, k), -band);
             }
     openvdb::tools::signedFloodFill(g->tree());
     DecorationField f;
@@ -401,7 +404,8 @@ void addCeilingRoughness(DecorationField& field, double amplitude, double scale,
     const double h = g->voxelSize()[0];
     // Widen the band so the displaced surface stays inside it, then displace and rebuild.
     const int extra = int(std::ceil(amplitude / h)) + 1;
-    FloatGrid::Ptr wide = openvdb::tools::levelSetRebuild(*g, 0.f, float(kHalfWidth + extra), float(kHalfWidth + extra));
+    FloatGrid::Ptr wide =
+        openvdb::tools::levelSetRebuild(*g, 0.f, float(kHalfWidth + extra), float(kHalfWidth + extra));
     const std::vector<Sample> s = surfaceSamples(*wide, kHalfWidth + extra, false);
     std::mt19937_64 rng(seed);
     const GradientNoise noise(rng);

@@ -81,14 +81,14 @@ void addCeilingRoughness(DecorationField& field, double amplitude, double scale,
 
 /// One speleothem found in a step.
 struct Stalactite {
-    Vec3d tip{0, 0, 0};          ///< lowest surface point, metres
-    double length = 0;           ///< tip to the highest point of its convex patch, metres
-    double radius = 0;           ///< largest horizontal distance of its patch from the axis, metres
-    double tipSpeed = 0;         ///< downward speed of the fitted tip, m/yr
-    double dripFactor = 1;       ///< α multiplier of its drip site
-    long points = 0;             ///< level-set voxels in its patch
-    bool dripsOnFloor = false;   ///< a floor below its tip was found
-    Vec3d dripPoint{0, 0, 0};    ///< where the drip lands, metres
+    Vec3d tip{0, 0, 0};         ///< lowest surface point, metres
+    double length = 0;          ///< tip to the highest point of its convex patch, metres
+    double radius = 0;          ///< largest horizontal distance of its patch from the axis, metres
+    double tipSpeed = 0;        ///< downward speed of the fitted tip, m/yr
+    double dripFactor = 1;      ///< α multiplier of its drip site
+    long points = 0;            ///< level-set voxels in its patch
+    bool dripsOnFloor = false;  ///< a floor below its tip was found
+    Vec3d dripPoint{0, 0, 0};   ///< where the drip lands, metres
 };
 
 /// The stalactites of `field` as step 1 finds them (largest first: by length, then position).

@@ -14,9 +14,9 @@
 namespace cavesim::speleo {
 namespace {
 
-constexpr double kH = 0.002;   // level-set voxel, metres
-constexpr double kL = 0.04;    // room half width, metres
-constexpr double kZ = 0.10;    // room height below the ceiling, metres
+constexpr double kH = 0.002;  // level-set voxel, metres
+constexpr double kL = 0.04;   // room half width, metres
+constexpr double kZ = 0.10;   // room height below the ceiling, metres
 
 /// A room [−L, L]² × [−Z, 0] whose ceiling carries protuberances of revolution: each hangs
 /// depth(ρ) below z = 0 at horizontal distance ρ from its axis (x0, y0).
@@ -214,8 +214,8 @@ TEST(Speleothems, ConesAndParaboloidsGrowAtNaturalRatesNarrowFasterAndTendToShor
     const Growth narrowPara = growFor(paraboloid(0.012, 0.03), years);
     const Growth widePara = growFor(paraboloid(0.03, 0.015), years);
     for (const Growth* g : {&narrowCone, &wideCone, &narrowPara, &widePara}) {
-        std::printf("tip %.4f -> %.4f rate %.4f mm/yr  beta %.3f -> %.3f  error %.4f -> %.4f\n", g->start.tipZ, g->end.tipZ, g->rateMmPerYear, g->start.beta,
-                    g->end.beta, g->start.error, g->end.error);
+        std::printf("tip %.4f -> %.4f rate %.4f mm/yr  beta %.3f -> %.3f  error %.4f -> %.4f\n", g->start.tipZ,
+                    g->end.tipZ, g->rateMmPerYear, g->start.beta, g->end.beta, g->start.error, g->end.error);
         // Natural stalactites lengthen at ~0.1 mm/yr (Short et al. 2005): within a factor of ten.
         EXPECT_GT(g->rateMmPerYear, 0.01);
         EXPECT_LT(g->rateMmPerYear, 1.0);
