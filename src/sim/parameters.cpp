@@ -558,10 +558,12 @@ std::vector<ParamSection> makeRegistry() {
                 "`docs/reproduction.md` gives Table 4 both ways). Does not change the simulation"),
         }));
     ParamSection& speleo = r.emplace_back(table<SpeleothemOptions>(
-        "speleothems", speleothems, "stalactites and stalagmites (Short et al. 2005; Amorós-Tur & García-Fernández 2024)",
+        "speleothems", speleothems,
+        "stalactites and stalagmites (Short et al. 2005; Amorós-Tur & García-Fernández 2024)",
         {
-            boolean("enabled", &SpeleothemOptions::enabled,
-                    "grow speleothems on the cave after stage 2 and write `cave_decorated.*` and `images/speleo_*.png`"),
+            boolean(
+                "enabled", &SpeleothemOptions::enabled,
+                "grow speleothems on the cave after stage 2 and write `cave_decorated.*` and `images/speleo_*.png`"),
             boolean("drained", &SpeleothemOptions::drained,
                     "treat the whole cave as air-filled (there is no water table yet); `false` = water-filled: "
                     "nothing grows"),
@@ -574,8 +576,7 @@ std::vector<ParamSection> makeRegistry() {
             real("alpha", &SpeleothemOptions::alpha, rng(0, 100, "(]"),
                  "Short's rate constant α of v = α·l_Q·(l_Q/(r·sin θ))^(1/3) (chemistry of the drip water)")
                 .unitIs("1/yr"),
-            real("l_q", &SpeleothemOptions::lQ, rng(1e-6, 1e-2), "Short's characteristic length l_Q")
-                .unitIs("m"),
+            real("l_q", &SpeleothemOptions::lQ, rng(1e-6, 1e-2), "Short's characteristic length l_Q").unitIs("m"),
             real("voxel_size", &SpeleothemOptions::voxelSize, rng(1e-4, 1),
                  "voxel edge of the decoration level set (the cave surface resampled finer); "
                  "run time and mesh size grow as its inverse square")
