@@ -162,7 +162,6 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
     const double rTip = tipRadiusOf(o, h);
     openvdb::tools::GridSampler<FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(grid.getConstAccessor(),
                                                                                               grid.transform());
-    std::vector<std::pair<double, double>> stalagmiteBoost;  // unused placeholder for clarity
 
     for (const std::vector<int>& members : groups) {
         // The tip: the lowest surface point among the points facing down (a needle's lowest
@@ -224,7 +223,6 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         }
         a.stalactites.push_back(st);
     }
-    (void)stalagmiteBoost;
 
     if (o.stalagmites && o.stalagmiteRate > 0) {
         // Upward-facing rock near each drip point rises at W·exp(−d²/(2R²)).
