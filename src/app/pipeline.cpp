@@ -6,6 +6,7 @@
 
 #include "app/cave_maps.h"
 #include "app/report.h"
+#include "app/speleo_report.h"
 #include "app/state.h"
 #include "core/timer.h"
 #include "formats/exports.h"
@@ -122,6 +123,9 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         mesh::writeCavePictures(cave, imagesDir, width);
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
+    if (s.speleothems.enabled)
+        rec.speleothems = speleothemsJson(
+            speleo::decorateCave(cave, s.speleothems, dir.file("").string(), width, s.output.images));
     rec.timing.mesh = tm.seconds();
 
     const Stopwatch tr;

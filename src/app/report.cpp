@@ -1,5 +1,7 @@
 #include "app/report.h"
 
+#include "app/speleo_report.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -218,6 +220,7 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
+    if (!rec.speleothems.is_null()) j["speleothems"] = rec.speleothems;
     j["files"] = rec.files;
     j["exports"] = rec.exports;
     j["checksums"] = {{"porosity", checksum(recordedPorosity(dom, s, StateMoment::kFinal))},
@@ -288,6 +291,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
            << fmt(at(mesh, "components")) << " component(s), closed " << fmt(at(mesh, "closed")) << ", manifold "
            << fmt(at(mesh, "manifold")) << " (`cave.obj`, `cave.ply`).\n";
     }
+
+    writeSpeleothemsMarkdown(md, r);
 
     md << "\n## Pictures\n\n";
     const bool section = isSectionScenario(s);

@@ -38,6 +38,7 @@ struct RunRecord {
     Timing timing;
     nlohmann::json mesh;                              ///< mesh statistics (null when no mesh was written)
     nlohmann::json analysis;                          ///< {network, morphometry, graph_metrics, skeleton, category}
+    nlohmann::json speleothems;                       ///< app/speleo_report.h (null when [speleothems] is off)
     nlohmann::json files = nlohmann::json::object();  ///< fingerprints of written files, by name
     std::vector<std::string> exports;                 ///< the files of `[output] formats` written, in format order
     nlohmann::json json;                              ///< filled by writeReport: the report.json document

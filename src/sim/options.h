@@ -126,6 +126,29 @@ struct Stage2Options {
     std::vector<int> snapshots;  ///< iterations at which pictures are taken, at most 32
 };
 
+/// Speleothems (src/speleo/speleothems.h): stalactites grown on the drained cave's ceiling by
+/// Short's law, stalagmites below their drip points. Lengths in metres, times in years.
+struct SpeleothemOptions {
+    bool enabled = false;
+    bool drained = true;             ///< treat the whole cave as air-filled (no water table yet)
+    double years = 1000.0;           ///< years of growth
+    double timeStep = 0.0;           ///< years between speed updates; 0 = the stable step
+    double alpha = 1.0;              ///< Short's chemical rate α, 1/yr
+    double lQ = 1.0e-4;              ///< Short's characteristic length l_Q, metres
+    double voxelSize = 0.1;          ///< edge of the decoration level set's voxels, metres
+    double convexity = 2.0;          ///< least mean curvature of a stalactite's surface, 1/m
+    double minSize = 0.2;            ///< least horizontal radius of a convex ceiling patch, metres
+    double tipRadius = 0.0;          ///< radius of the fitted tip, metres; 0 = two voxels
+    double roughness = 0.15;         ///< amplitude of the ceiling relief added before growth, metres
+    double roughnessScale = 1.0;     ///< feature size of that relief, metres
+    double dripVariability = 0.3;    ///< relative spread of α between drip sites
+    std::uint64_t seed = 1;          ///< seeds the relief and the drip variability
+    bool stalagmites = true;         ///< grow stalagmites below the drip points
+    double stalagmiteRate = 1.0;     ///< stalagmite apex rate / its stalactite's tip speed
+    double stalagmiteRadius = 0.15;  ///< stalagmite equilibrium radius, metres
+    int frames = 4;                  ///< growth animation frames (0 = none)
+};
+
 /// What a run writes besides the grids.
 struct OutputOptions {
     MeshStyle meshStyle = MeshStyle::kSmooth;

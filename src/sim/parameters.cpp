@@ -278,6 +278,9 @@ OutputOptions* output(Scenario& s) {
 SiteSettings* site(Scenario& s) {
     return &s.site;
 }
+SpeleothemOptions* speleothems(Scenario& s) {
+    return &s.speleothems;
+}
 
 std::vector<ParamSection> makeRegistry() {
     using PM = ProtosinkMode;
@@ -664,6 +667,69 @@ std::vector<ParamSection> makeRegistry() {
     horizon.prose =
         "A slab of raised porosity along a surface read from a file, like a `[[rock.plane]]` bedding "
         "plane that follows the site's geology. At most 64 horizons.";
+    ParamSection& speleo = r.emplace_back(table<SpeleothemOptions>(
+        "speleothems", speleothems,
+        "stalactites and stalagmites (Short et al. 2005; Amorós-Tur & García-Fernández 2024)",
+        {
+            boolean(
+                "enabled", &SpeleothemOptions::enabled,
+                "grow speleothems on the cave after stage 2 and write `cave_decorated.*` and `images/speleo_*.png`"),
+            boolean("drained", &SpeleothemOptions::drained,
+                    "treat the whole cave as air-filled (there is no water table yet); `false` = water-filled: "
+                    "nothing grows"),
+            real("years", &SpeleothemOptions::years, rng(0, 1e6), "years of growth").unitIs("yr"),
+            real("time_step", &SpeleothemOptions::timeStep, rng(0, 1e5),
+                 "years between two updates of the speed field; 0 = the stable step, in which the fastest point "
+                 "moves half a level-set voxel (the advection sub-steps at its own CFL limit within a step)")
+                .unitIs("yr")
+                .defaultShown("0 (stable step)"),
+            real("alpha", &SpeleothemOptions::alpha, rng(0, 100, "(]"),
+                 "Short's rate constant α of v = α·l_Q·(l_Q/(r·sin θ))^(1/3) (chemistry of the drip water)")
+                .unitIs("1/yr"),
+            real("l_q", &SpeleothemOptions::lQ, rng(1e-6, 1e-2), "Short's characteristic length l_Q").unitIs("m"),
+            real("voxel_size", &SpeleothemOptions::voxelSize, rng(1e-4, 1),
+                 "voxel edge of the decoration level set (the cave surface resampled finer); "
+                 "run time and mesh size grow as its inverse square")
+                .unitIs("m"),
+            real("convexity", &SpeleothemOptions::convexity, rng(0, 1e4),
+                 "least mean curvature of the ceiling (convex downward) for a point to belong to a stalactite "
+                 "(the paper's ε_s)")
+                .unitIs("1/m"),
+            real("min_size", &SpeleothemOptions::minSize, rng(0, 100),
+                 "least horizontal radius of a convex ceiling patch around its lowest point for it to grow")
+                .unitIs("m"),
+            real("tip_radius", &SpeleothemOptions::tipRadius, rng(0, 10),
+                 "radius around a stalactite's axis inside which the tip is fitted (moved down with the ring "
+                 "around it) instead of the singular law; 0 = two voxels")
+                .unitIs("m")
+                .defaultShown("0 (2 voxels)"),
+            real("roughness", &SpeleothemOptions::roughness, rng(0, 10),
+                 "amplitude of the seeded relief added to downward-facing rock before growth (the cave's "
+                 "smooth surface has no centimetre relief to start stalactites from); 0 = none")
+                .unitIs("m"),
+            real("roughness_scale", &SpeleothemOptions::roughnessScale, rng(1e-3, 100, "(]"),
+                 "feature size of that relief")
+                .unitIs("m"),
+            real("drip_variability", &SpeleothemOptions::dripVariability, rng(0, 2),
+                 "relative spread of α between drip sites: α·exp(variability·g), g a smooth seeded noise of the "
+                 "tip's position in [-1, 1]"),
+            integer("seed", &SpeleothemOptions::seed, rng(0, double(kInt64Max)),
+                    "seeds the relief and the drip variability")
+                .rangeShown("0 – 2⁶³−1"),
+            boolean("stalagmites", &SpeleothemOptions::stalagmites,
+                    "grow a stalagmite on the floor below each active stalactite tip"),
+            real("stalagmite_rate", &SpeleothemOptions::stalagmiteRate, rng(0, 100),
+                 "stalagmite apex growth rate as a multiple of the tip speed of the stalactite dripping on it"),
+            real("stalagmite_radius", &SpeleothemOptions::stalagmiteRadius, rng(1e-3, 10, "(]"),
+                 "stalagmite equilibrium radius: the growth rate falls as exp(-d²/(2R²)) with the horizontal "
+                 "distance d from the drip axis")
+                .unitIs("m"),
+            integer("frames", &SpeleothemOptions::frames, rng(0, 64),
+                    "growth animation frames (`images/speleo_perspective_NN.png`, `images/speleo_closeup_NN.png`)"),
+        }));
+    speleo.prose =
+        "Speleothems grow after stage 2 on a finer level set of the cave surface; the law, its 3D reading\n"
+        "and its limits are in `docs/speleothems.md`.";
     return r;
 }
 

@@ -126,6 +126,7 @@ struct Scenario {
     std::vector<SiteHorizon> siteHorizons;  ///< [[site.horizon]]
     /// The site's files on the block; null until `site::loadSite` reads them (or without [site]).
     std::shared_ptr<const SiteData> siteData;
+    SpeleothemOptions speleothems;
 
     std::string path;  ///< file it came from ("<built-in>" for the default)
 };

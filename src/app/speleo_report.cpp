@@ -1,0 +1,87 @@
+#include "app/speleo_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+namespace cavesim::app {
+namespace {
+
+std::string fmt(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+}  // namespace
+
+nlohmann::json speleothemsJson(const speleo::DecorationSummary& s) {
+    nlohmann::json j;
+    long stalagmites = 0;
+    double longest = 0, total = 0;
+    for (const auto& st : s.stalactites) {
+        stalagmites += st.dripsOnFloor ? 1 : 0;
+        longest = std::max(longest, st.length);
+        total += st.length;
+    }
+    j["stalactites"] = long(s.stalactites.size());
+    j["drip_points_on_floor"] = stalagmites;
+    j["longest_m"] = longest;
+    j["mean_length_m"] = s.stalactites.empty() ? 0.0 : total / double(s.stalactites.size());
+    j["years"] = s.years;
+    j["steps"] = s.steps;
+    j["max_speed_mm_per_yr"] = s.maxSpeed * 1000.0;
+    j["voxel_size_m"] = s.voxelSize;
+    j["level_set_voxels"] = s.levelSetVoxels;
+    j["mesh"] = {{"vertices", s.mesh.vertices},
+                 {"faces", s.mesh.faces},
+                 {"closed", s.mesh.closed},
+                 {"manifold", s.mesh.manifold},
+                 {"components", s.mesh.components}};
+    j["seconds"] = {{"growth", s.secondsGrowth}, {"output", s.secondsOutput}};
+    nlohmann::json table = nlohmann::json::array();
+    for (std::size_t i = 0; i < s.stalactites.size() && i < 20; ++i) {
+        const auto& st = s.stalactites[i];
+        table.push_back({{"tip_m", {st.tip[0], st.tip[1], st.tip[2]}},
+                         {"length_m", st.length},
+                         {"radius_m", st.radius},
+                         {"tip_speed_mm_per_yr", st.tipSpeed * 1000.0},
+                         {"drip_factor", st.dripFactor},
+                         {"drips_on_floor", st.dripsOnFloor}});
+    }
+    j["largest"] = table;
+    j["pictures"] = s.pictures;
+    return j;
+}
+
+void writeSpeleothemsMarkdown(std::ostringstream& md, const nlohmann::json& report) {
+    if (!report.contains("speleothems") || report["speleothems"].is_null()) return;
+    const nlohmann::json& j = report["speleothems"];
+    md << "\n## Speleothems\n\n"
+       << j["stalactites"].get<long>() << " stalactite(s) after " << fmt(j["years"].get<double>(), 0) << " years ("
+       << j["steps"].get<int>() << " steps on a " << fmt(j["voxel_size_m"].get<double>() * 100, 1) << " cm level set), "
+       << j["drip_points_on_floor"].get<long>() << " dripping onto the floor (stalagmites); longest "
+       << fmt(j["longest_m"].get<double>() * 100, 1)
+       << " cm. Mesh `cave_decorated.obj` / `.ply` / `.glb`: " << j["mesh"]["faces"].get<long>() << " faces, closed "
+       << (j["mesh"]["closed"].get<bool>() ? "yes" : "no") << ", manifold "
+       << (j["mesh"]["manifold"].get<bool>() ? "yes" : "no") << ". Law and limits: docs/speleothems.md.\n\n";
+    if (!j["largest"].empty()) {
+        md << "| # | tip x, y, z (m) | length (cm) | radius (cm) | tip speed (mm/yr) | drip factor |\n"
+           << "|---|---|---|---|---|---|\n";
+        int k = 1;
+        for (const auto& r : j["largest"]) {
+            md << "| " << k++ << " | " << fmt(r["tip_m"][0].get<double>(), 2) << ", "
+               << fmt(r["tip_m"][1].get<double>(), 2) << ", " << fmt(r["tip_m"][2].get<double>(), 2) << " | "
+               << fmt(r["length_m"].get<double>() * 100, 1) << " | " << fmt(r["radius_m"].get<double>() * 100, 1)
+               << " | " << fmt(r["tip_speed_mm_per_yr"].get<double>(), 3) << " | "
+               << fmt(r["drip_factor"].get<double>(), 2) << " |\n";
+        }
+    }
+    for (const auto& p : j["pictures"]) {
+        const std::string f = p.get<std::string>();
+        if (f.find("_00") == std::string::npos && &p != &j["pictures"].back()) continue;
+        md << "\n![" << f << "](" << f << ")\n";
+    }
+}
+
+}  // namespace cavesim::app

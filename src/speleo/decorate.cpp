@@ -1,0 +1,208 @@
+#include "speleo/decorate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "formats/mesh_formats.h"
+#include "render/png_io.h"
+
+namespace cavesim::speleo {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Vec3d sub3(const Vec3d& a, const Vec3d& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+Vec3d cross3(const Vec3d& a, const Vec3d& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot3(const Vec3d& a, const Vec3d& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+Vec3d unit3(const Vec3d& a) {
+    const double l = std::sqrt(dot3(a, a));
+    return l > 0 ? Vec3d{a[0] / l, a[1] / l, a[2] / l} : Vec3d{0, 0, 1};
+}
+
+std::string frameName(const char* stem, int frame) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "images/speleo_%s_%02d.png", stem, frame);
+    return buf;
+}
+
+/// A camera inside the cave looking at the stalactite from the side, a little below its tip.
+render::Camera closeUpCamera(const DecorationField& f, const Stalactite& st, int width, int height, double& reach) {
+    const double size = std::max({st.length, 2 * st.radius, 0.1});
+    const Vec3d target{st.tip[0], st.tip[1], st.tip[2] + 0.3 * st.length};
+    render::Camera cam;
+    cam.perspective = true;
+    // Back away along the direction with the most air, trying eight azimuths.
+    double bestD = 0;
+    Vec3d bestDir{1, 0, 0};
+    for (int k = 0; k < 8; ++k) {
+        const double a = k * 3.14159265358979323846 / 4;
+        const Vec3d dir = unit3({std::cos(a), std::sin(a), -0.35});
+        double d = 0;
+        // From just outside the stalactite (the target is on its axis, inside it) into the air.
+        const double t0 = st.radius + 2 * f.voxelSize();
+        for (double t = t0; t <= t0 + 4 * size + 0.5; t += 0.5 * f.voxelSize()) {
+            const Vec3d p{target[0] + t * dir[0], target[1] + t * dir[1], target[2] + t * dir[2]};
+            if (f.distance(p) >= -f.voxelSize()) break;
+            d = t;
+        }
+        if (d > bestD + 1e-9) bestD = d, bestDir = dir;
+    }
+    const double back = std::max(st.radius + 2 * f.voxelSize(), 0.9 * bestD);
+    reach = back + 2 * size;
+    cam.eye = {target[0] + back * bestDir[0], target[1] + back * bestDir[1], target[2] + back * bestDir[2]};
+    cam.forward = unit3(sub3(target, cam.eye));
+    cam.right = unit3(cross3(cam.forward, {0, 0, 1}));
+    cam.up = cross3(cam.right, cam.forward);
+    cam.scale = 0.9 * width;  // ~58° field of view
+    cam.cx = 0.5 * width;
+    cam.cy = 0.5 * height;
+    return cam;
+}
+
+/// The close-up's subject: the most slender stalactite (length over radius) at least two voxels
+/// long, so a metre-wide convex bulge of the cave's own ceiling is not chosen over a speleothem.
+const Stalactite& closeUpSubject(const std::vector<Stalactite>& st, double voxel) {
+    std::size_t best = 0;
+    double bestRatio = -1;
+    for (std::size_t i = 0; i < st.size(); ++i) {
+        if (st[i].length < 2 * voxel) continue;
+        const double ratio = st[i].length / std::max(st[i].radius, voxel);
+        if (ratio > bestRatio) bestRatio = ratio, best = i;
+    }
+    return st[best];
+}
+
+}  // namespace
+
+render::Image renderMesh(const mesh::TriangleMesh& m, const render::Camera& cam, int width, int height, double zLow,
+                         double zHigh) {
+    render::Image img(width, height, {250, 250, 248});
+    std::vector<float> depth(std::size_t(width) * height, std::numeric_limits<float>::infinity());
+    std::vector<render::Camera::Projected> p(m.vertices.size());
+    for (std::size_t i = 0; i < m.vertices.size(); ++i) p[i] = cam.project(m.vertices[i]);
+    const Vec3d light = unit3({-0.3, -0.5, 0.8});
+    for (const auto& t : m.triangles) {
+        const auto &a = p[t[0]], &b = p[t[1]], &c = p[t[2]];
+        if (a.depth <= 1e-3 || b.depth <= 1e-3 || c.depth <= 1e-3) continue;
+        const Vec3d n =
+            unit3(cross3(sub3(m.vertices[t[1]], m.vertices[t[0]]), sub3(m.vertices[t[2]], m.vertices[t[0]])));
+        const double head = std::abs(dot3(n, cam.forward)), diffuse = std::abs(dot3(n, light));
+        const double zMid = (m.vertices[t[0]][2] + m.vertices[t[1]][2] + m.vertices[t[2]][2]) / 3;
+        const double h = std::clamp((zMid - zLow) / std::max(zHigh - zLow, 1e-9), 0.0, 1.0);
+        const render::Rgb base = render::mix({196, 160, 112}, {232, 222, 200}, h);  // ochre low, pale high
+        const render::Rgb col = render::scale(base, 0.25 + 0.45 * diffuse + 0.35 * head);
+        const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x})))),
+                  x1 = std::min(width - 1, int(std::ceil(std::max({a.x, b.x, c.x}))));
+        const int y0 = std::max(0, int(std::floor(std::min({a.y, b.y, c.y})))),
+                  y1 = std::min(height - 1, int(std::ceil(std::max({a.y, b.y, c.y}))));
+        const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+        if (std::abs(area) < 1e-12) continue;
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) {
+                const double px = x + 0.5, py = y + 0.5;
+                const double w0 = ((b.x - px) * (c.y - py) - (c.x - px) * (b.y - py)) / area;
+                const double w1 = ((c.x - px) * (a.y - py) - (a.x - px) * (c.y - py)) / area;
+                const double w2 = 1 - w0 - w1;
+                if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+                const float d = float(w0 * a.depth + w1 * b.depth + w2 * c.depth);
+                float& z = depth[std::size_t(y) * width + x];
+                if (d < z) {
+                    z = d;
+                    img.set(x, y, col);
+                }
+            }
+    }
+    return img;
+}
+
+DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, const std::string& dir, int imageWidth,
+                               bool images) {
+    const auto t0 = std::chrono::steady_clock::now();
+    DecorationSummary sum;
+    sum.voxelSize = o.voxelSize;
+    namespace fs = std::filesystem;
+    const mesh::TriangleMesh caveMesh = mesh::buildCaveMesh(cave.mask, cave.voxelSize);
+    if (caveMesh.triangles.empty()) return sum;
+    DecorationField field = fieldFromMesh(caveMesh, o.voxelSize);
+    addCeilingRoughness(field, o.roughness, o.roughnessScale, o.seed);
+
+    const int frames = images ? o.frames : 0;
+    std::vector<double> frameYears;
+    for (int k = 1; k < frames; ++k) frameYears.push_back(o.years * k / (frames - 1));
+    // Frames are rendered after growth from stored meshes (close-up on the final longest stalactite).
+    std::vector<mesh::TriangleMesh> frameMeshes;
+    std::vector<DecorationField> frameFields;
+    std::vector<double> frameTimes;
+    const GrowthResult g =
+        grow(field, o, frameYears, [&](double years, const DecorationField& f, const std::vector<Stalactite>&) {
+            if (int(frameFields.size()) >= frames) return;
+            frameFields.push_back(f);
+            frameTimes.push_back(years);
+        });
+    sum.stalactites = g.stalactites;
+    sum.steps = g.steps;
+    sum.years = g.years;
+    sum.maxSpeed = g.maxSpeed;
+    sum.levelSetVoxels = field.activeVoxels();
+    sum.secondsGrowth = secondsSince(t0);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    const mesh::TriangleMesh decorated = meshField(field);
+    sum.mesh = mesh::measureMesh(decorated);
+    fs::create_directories(dir);
+    mesh::writeMeshFile(decorated, (fs::path(dir) / "cave_decorated.obj").string());
+    mesh::writeMeshFile(decorated, (fs::path(dir) / "cave_decorated.ply").string());
+    formats::GlbOptions go;
+    go.name = "cave_decorated";
+    formats::writeGlb(mesh::toSurfaceMesh(decorated), (fs::path(dir) / "cave_decorated.glb").string(), go);
+
+    if (frames > 0) {
+        fs::create_directories(fs::path(dir) / "images");
+        const render::Frame pf = render::makeFrame(render::View::kPerspective, cave.dims(), cave.voxelSize, imageWidth);
+        const double zTop = cave.dims().nz * cave.voxelSize;
+        const int cw = imageWidth, ch = imageWidth * 3 / 4;
+        for (std::size_t k = 0; k < frameFields.size(); ++k) {
+            const int year = int(std::lround(frameTimes[k]));
+            const mesh::TriangleMesh whole = meshField(frameFields[k]);
+            render::Image img = renderMesh(whole, pf.camera, pf.width, pf.height, 0.0, zTop);
+            render::drawText(img, 10, 10, "speleothems: year " + std::to_string(year), {40, 40, 40}, pf.textScale);
+            const std::string pn = frameName("perspective", int(k));
+            render::writePng((fs::path(dir) / pn).string(), img);
+            sum.pictures.push_back(pn);
+            if (!sum.stalactites.empty()) {
+                const Stalactite& st = closeUpSubject(sum.stalactites, o.voxelSize);
+                double reach = 1;
+                const render::Camera cam = closeUpCamera(field, st, cw, ch, reach);
+                const Vec3d lo{std::min(cam.eye[0], st.tip[0]) - reach, std::min(cam.eye[1], st.tip[1]) - reach,
+                               std::min(cam.eye[2], st.tip[2]) - reach};
+                const Vec3d hi{std::max(cam.eye[0], st.tip[0]) + reach, std::max(cam.eye[1], st.tip[1]) + reach,
+                               std::max(cam.eye[2], st.tip[2]) + reach};
+                const mesh::TriangleMesh part = meshField(frameFields[k], lo, hi);
+                render::Image cimg = renderMesh(part, cam, cw, ch, st.tip[2], st.tip[2] + st.length + st.radius);
+                render::drawText(cimg, 10, 10,
+                                 "stalactite, year " + std::to_string(year) + " (final length " +
+                                     std::to_string(int(std::lround(st.length * 100))) + " cm)",
+                                 {40, 40, 40}, pf.textScale);
+                const std::string cn = frameName("closeup", int(k));
+                render::writePng((fs::path(dir) / cn).string(), cimg);
+                sum.pictures.push_back(cn);
+            }
+        }
+    }
+    sum.secondsOutput = secondsSince(t1);
+    return sum;
+}
+
+}  // namespace cavesim::speleo

@@ -1,0 +1,492 @@
+#include "speleo/speleothems.h"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Clip.h>
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/LevelSetAdvect.h>
+#include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/tools/VelocityFields.h>
+#include <openvdb/tools/VolumeToMesh.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "core/check.h"
+#include "sim/noise.h"
+
+namespace cavesim::speleo {
+
+struct DecorationField::Impl {
+    openvdb::FloatGrid::Ptr grid;  // signed distance, metres, < 0 in the cave's air
+};
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::FloatGrid;
+using openvdb::Vec3d;
+
+constexpr int kHalfWidth = 3;          // band half width, voxels
+constexpr double kShell = 2.0;         // stalactite points lie within this many voxels of the surface
+constexpr double kTipFacing = 0.7071;  // a tip faces down within 45° of vertical
+constexpr double kMinCos = 0.2;
+constexpr double kMinSinTheta =
+    0.1736;  // sin 10°: flatter walls beyond the tip do not grow           // cos θ floor of the tip's vertical speed
+constexpr double kDripNoiseScale = 1.0;  // metres, feature size of the drip variability
+constexpr std::uint64_t kDripSalt = 0x9e3779b97f4a7c15ull;
+
+void initVdb() {
+    static const bool once = [] {
+        openvdb::initialize();
+        return true;
+    }();
+    (void)once;
+}
+
+FloatGrid::Ptr emptyGrid(double h, int halfWidth) {
+    FloatGrid::Ptr g = FloatGrid::create(float(halfWidth * h));
+    g->setTransform(openvdb::math::Transform::createLinearTransform(h));
+    g->setGridClass(openvdb::GRID_LEVEL_SET);
+    g->setName("decoration");
+    return g;
+}
+
+/// One voxel near the surface with its geometry.
+struct Sample {
+    Coord c;
+    float phi = 0;
+    openvdb::Vec3f nAir{0, 0, 0};  // unit normal out of the rock, into the cave
+    float kappa = 0;               // mean curvature of the rock surface (div nAir), 1/m
+    openvdb::Vec3f cp{0, 0, 0};    // closest surface point, world
+};
+
+std::vector<Sample> surfaceSamples(const FloatGrid& grid, double shellVoxels, bool wantCurvature) {
+    const double h = grid.voxelSize()[0];
+    std::vector<Coord> coords;
+    for (auto it = grid.cbeginValueOn(); it; ++it)
+        if (std::abs(*it) < shellVoxels * h) coords.push_back(it.getCoord());
+    std::vector<Sample> out(coords.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coords.size(), 4096), [&](const auto& range) {
+        auto acc = grid.getConstAccessor();
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            const Coord c = coords[n];
+            auto v = [&](int dx, int dy, int dz) { return double(acc.getValue(c.offsetBy(dx, dy, dz))); };
+            const double f = v(0, 0, 0);
+            const double fx = (v(1, 0, 0) - v(-1, 0, 0)) / (2 * h), fy = (v(0, 1, 0) - v(0, -1, 0)) / (2 * h),
+                         fz = (v(0, 0, 1) - v(0, 0, -1)) / (2 * h);
+            const double g2 = fx * fx + fy * fy + fz * fz;
+            Sample& s = out[n];
+            s.c = c;
+            s.phi = float(f);
+            if (!(g2 > 1e-12)) continue;
+            const double g = std::sqrt(g2);
+            s.nAir = openvdb::Vec3f(float(-fx / g), float(-fy / g), float(-fz / g));
+            const Vec3d x = grid.indexToWorld(c);
+            // Closest point along the unit normal (|∇φ| drifts from 1 near sharp tips).
+            s.cp = openvdb::Vec3f(float(x[0] - f * fx / g), float(x[1] - f * fy / g), float(x[2] - f * fz / g));
+            if (!wantCurvature || s.nAir[2] >= 0.f) continue;
+            const double h2 = h * h;
+            const double fxx = (v(1, 0, 0) - 2 * f + v(-1, 0, 0)) / h2, fyy = (v(0, 1, 0) - 2 * f + v(0, -1, 0)) / h2,
+                         fzz = (v(0, 0, 1) - 2 * f + v(0, 0, -1)) / h2;
+            const double fxy = (v(1, 1, 0) - v(1, -1, 0) - v(-1, 1, 0) + v(-1, -1, 0)) / (4 * h2);
+            const double fxz = (v(1, 0, 1) - v(1, 0, -1) - v(-1, 0, 1) + v(-1, 0, -1)) / (4 * h2);
+            const double fyz = (v(0, 1, 1) - v(0, 1, -1) - v(0, -1, 1) + v(0, -1, -1)) / (4 * h2);
+            const double divN = (fxx * (fy * fy + fz * fz) + fyy * (fx * fx + fz * fz) + fzz * (fx * fx + fy * fy) -
+                                 2 * fx * fy * fxy - 2 * fx * fz * fxz - 2 * fy * fz * fyz) /
+                                (g2 * g);
+            s.kappa = float(-divN);  // the rock's normal is −∇φ/|∇φ|
+        }
+    });
+    return out;
+}
+
+double tipRadiusOf(const SpeleothemOptions& o, double h) {
+    return o.tipRadius > 0 ? o.tipRadius : 2.0 * h;
+}
+
+double shortSpeed(double alpha, double lQ, double rSinTheta) {
+    return alpha * lQ * std::cbrt(lQ / std::max(rSinTheta, lQ));
+}
+
+struct Analysis {
+    std::vector<Sample> samples;
+    std::vector<double> speed;  // normal speed per sample, m/yr
+    std::vector<Stalactite> stalactites;
+};
+
+Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
+    const double h = grid.voxelSize()[0];
+    Analysis a;
+    a.samples = surfaceSamples(grid, kShell, true);
+    const std::vector<Sample>& s = a.samples;
+    a.speed.assign(s.size(), 0.0);
+    if (!o.drained) return a;
+
+    // Step 1: stalactite points, 26-connected groups in a fixed order.
+    openvdb::Int32Grid::Ptr label = openvdb::Int32Grid::create(-1);
+    auto lab = label->getAccessor();
+    for (std::size_t n = 0; n < s.size(); ++n)
+        if (s[n].nAir[2] < 0.f && s[n].kappa > o.convexity) lab.setValue(s[n].c, int(n));
+    std::vector<int> group(s.size(), -1);
+    std::vector<std::vector<int>> groups;
+    for (std::size_t n = 0; n < s.size(); ++n) {
+        if (group[n] >= 0 || lab.getValue(s[n].c) < 0) continue;
+        const int g = int(groups.size());
+        groups.emplace_back();
+        std::vector<int> stack{int(n)};
+        group[n] = g;
+        while (!stack.empty()) {
+            const int m = stack.back();
+            stack.pop_back();
+            groups[g].push_back(m);
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int q = lab.getValue(s[m].c.offsetBy(dx, dy, dz));
+                        if (q >= 0 && group[q] < 0) {
+                            group[q] = g;
+                            stack.push_back(q);
+                        }
+                    }
+        }
+        std::sort(groups[g].begin(), groups[g].end());
+    }
+
+    std::mt19937_64 rng(o.seed ^ kDripSalt);
+    const GradientNoise dripNoise(rng);
+    const double rTip = tipRadiusOf(o, h);
+    openvdb::tools::GridSampler<FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(grid.getConstAccessor(),
+                                                                                              grid.transform());
+
+    for (const std::vector<int>& members : groups) {
+        // The tip: the lowest surface point among the points facing down (a needle's lowest
+        // voxels may see its side).
+        int tip = -1;
+        for (int m : members)
+            if (-s[m].nAir[2] >= kTipFacing && (tip < 0 || s[m].cp[2] < s[tip].cp[2])) tip = m;
+        if (tip < 0) continue;
+        const double tx = s[tip].cp[0], ty = s[tip].cp[1], tz = s[tip].cp[2];
+        double radius = 0, top = tz;
+        std::vector<double> r(members.size());
+        for (std::size_t k = 0; k < members.size(); ++k) {
+            const Sample& p = s[members[k]];
+            r[k] = std::hypot(p.cp[0] - tx, p.cp[1] - ty);
+            radius = std::max(radius, r[k]);
+            top = std::max(top, double(p.cp[2]));
+        }
+        if (radius < o.minSize || top - tz < h) continue;
+        Stalactite st;
+        st.tip = {tx, ty, tz};
+        st.length = top - tz;
+        st.radius = radius;
+        st.points = long(members.size());
+        st.dripFactor = std::exp(o.dripVariability * dripNoise.sample(tx / kDripNoiseScale, ty / kDripNoiseScale,
+                                                                      0.5 + tz / kDripNoiseScale));
+        const double alpha = o.alpha * st.dripFactor;
+        // Step 2: Short's law outside the tip; the ring's mean vertical speed for step 3.
+        double ringSum = 0;
+        long ringCount = 0;
+        for (std::size_t k = 0; k < members.size(); ++k) {
+            if (r[k] <= rTip) continue;
+            const Sample& p = s[members[k]];
+            const double sinT = std::hypot(double(p.nAir[0]), double(p.nAir[1]));
+            const double v = shortSpeed(alpha, o.lQ, std::max(r[k] * sinT, rTip));
+            a.speed[members[k]] = v;
+            if (r[k] <= 2 * rTip) {
+                ringSum += v / std::max(double(-p.nAir[2]), kMinCos);
+                ++ringCount;
+            }
+        }
+        // Never faster than Short's tip speed α·l_Q (the lengthening rate of his asymptotic shape).
+        const double w =
+            std::min(ringCount > 0 ? ringSum / double(ringCount) : shortSpeed(alpha, o.lQ, rTip), alpha * o.lQ);
+        for (std::size_t k = 0; k < members.size(); ++k)
+            if (r[k] <= rTip) a.speed[members[k]] = w * std::max(0.0, double(-s[members[k]].nAir[2]));
+        st.tipSpeed = w;
+
+        // Step 4: the drip falls to the first rock below the tip.
+        for (double z = tz - h; z > tz - 1000.0; z -= 0.5 * h) {
+            const double d = sampler.wsSample(Vec3d(tx, ty, z));
+            if (d > 0) {
+                st.dripsOnFloor = true;
+                st.dripPoint = {tx, ty, z};
+                break;
+            }
+            if (d <= -kHalfWidth * h * 0.999) {  // deep in the air: leap by the background distance
+                z -= kHalfWidth * h - h;
+            }
+        }
+        a.stalactites.push_back(st);
+    }
+
+    if (o.stalagmites && o.stalagmiteRate > 0) {
+        // Upward-facing rock near each drip point rises at W·exp(−d²/(2R²)).
+        std::vector<int> index;
+        openvdb::Int32Grid::Ptr at = openvdb::Int32Grid::create(-1);
+        auto acc = at->getAccessor();
+        for (std::size_t n = 0; n < s.size(); ++n)
+            if (s[n].nAir[2] > 0.3f) acc.setValue(s[n].c, int(n));
+        const double R = o.stalagmiteRadius;
+        for (const Stalactite& st : a.stalactites) {
+            if (!st.dripsOnFloor) continue;
+            const double W = o.stalagmiteRate * st.tipSpeed;
+            const double zHi = st.dripPoint[2] + 0.5 * (st.tip[2] - st.dripPoint[2]);
+            const Coord lo = Coord::round(
+                grid.worldToIndex(Vec3d(st.dripPoint[0] - 3 * R, st.dripPoint[1] - 3 * R, st.dripPoint[2] - 3 * R)));
+            const Coord hi =
+                Coord::round(grid.worldToIndex(Vec3d(st.dripPoint[0] + 3 * R, st.dripPoint[1] + 3 * R, zHi)));
+            for (int k = lo.z(); k <= hi.z(); ++k)
+                for (int j = lo.y(); j <= hi.y(); ++j)
+                    for (int i = lo.x(); i <= hi.x(); ++i) {
+                        const int n = acc.getValue(Coord(i, j, k));
+                        if (n < 0) continue;
+                        const double d = std::hypot(s[n].cp[0] - st.dripPoint[0], s[n].cp[1] - st.dripPoint[1]);
+                        if (d > 3 * R || s[n].cp[2] > zHi) continue;
+                        a.speed[n] = std::max(a.speed[n], W * std::exp(-d * d / (2 * R * R)));
+                    }
+        }
+    }
+    // Merging: a still point squeezed between growing walls (growing neighbours on both sides
+    // along an axis) moves with them, so a gap of a voxel or two between neighbours closes.
+    {
+        openvdb::FloatGrid::Ptr sp = openvdb::FloatGrid::create(0.f);
+        auto acc = sp->getAccessor();
+        for (std::size_t n = 0; n < s.size(); ++n)
+            if (a.speed[n] > 0) acc.setValue(s[n].c, float(a.speed[n]));
+        std::vector<double> extra(s.size(), 0.0);
+        for (std::size_t n = 0; n < s.size(); ++n) {
+            if (a.speed[n] > 0) continue;
+            for (int axis = 0; axis < 3; ++axis) {
+                for (int reach = 1; reach <= 2; ++reach) {
+                    Coord d(0, 0, 0);
+                    d[axis] = reach;
+                    const float lo = acc.getValue(s[n].c - d), hi = acc.getValue(s[n].c + d);
+                    if (lo > 0 && hi > 0) extra[n] = std::max(extra[n], double(std::min(lo, hi)));
+                }
+            }
+        }
+        for (std::size_t n = 0; n < s.size(); ++n) a.speed[n] = std::max(a.speed[n], extra[n]);
+    }
+    std::sort(a.stalactites.begin(), a.stalactites.end(), [](const Stalactite& x, const Stalactite& y) {
+        if (x.length != y.length) return x.length > y.length;
+        return x.tip < y.tip;
+    });
+    return a;
+}
+
+void advect(FloatGrid::Ptr& grid, const Analysis& a, double years) {
+    openvdb::Vec3fGrid::Ptr vel = openvdb::Vec3fGrid::create(openvdb::Vec3f(0.f));
+    vel->setTransform(grid->transform().copy());
+    // Speeds are scaled by the largest, and time by it in turn (OpenVDB treats speeds below
+    // ~3e-3 per unit time as zero; ours are ~1e-4 m/yr).
+    double vmax = 0;
+    for (double v : a.speed) vmax = std::max(vmax, v);
+    if (!(vmax > 0) || !(years > 0)) return;
+    auto acc = vel->getAccessor();
+    for (std::size_t n = 0; n < a.samples.size(); ++n)
+        if (a.speed[n] > 0) acc.setValue(a.samples[n].c, a.samples[n].nAir * float(a.speed[n] / vmax));
+    using Field = openvdb::tools::DiscreteField<openvdb::Vec3fGrid, openvdb::tools::BoxSampler>;
+    Field field(*vel);
+    openvdb::tools::LevelSetAdvection<FloatGrid, Field> adv(*grid, field);
+    adv.setSpatialScheme(openvdb::math::HJWENO5_BIAS);
+    adv.setTemporalScheme(openvdb::math::TVD_RK2);
+    adv.setTrackerSpatialScheme(openvdb::math::HJWENO5_BIAS);
+    adv.setTrackerTemporalScheme(openvdb::math::TVD_RK1);
+    adv.advect(0.0, years * vmax);
+}
+
+double maxSpeed(const Analysis& a) {
+    double m = 0;
+    for (double v : a.speed) m = std::max(m, v);
+    return m;
+}
+
+mesh::TriangleMesh extract(const FloatGrid& grid) {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    openvdb::tools::volumeToMesh(grid, points, triangles, quads, 0.0, 0.0, true);
+    auto len2 = [&](int a, int b) { return (points[a] - points[b]).lengthSqr(); };
+    mesh::TriangleMesh m;
+    m.vertices.reserve(points.size());
+    for (const openvdb::Vec3s& p : points) m.vertices.push_back({double(p[0]), double(p[1]), double(p[2])});
+    for (const openvdb::Vec3I& t : triangles) m.triangles.push_back({int(t[0]), int(t[2]), int(t[1])});
+    for (const openvdb::Vec4I& q : quads) {
+        if (len2(q[0], q[2]) <= len2(q[1], q[3])) {
+            m.triangles.push_back({int(q[0]), int(q[2]), int(q[1])});
+            m.triangles.push_back({int(q[0]), int(q[3]), int(q[2])});
+        } else {
+            m.triangles.push_back({int(q[0]), int(q[3]), int(q[1])});
+            m.triangles.push_back({int(q[1]), int(q[3]), int(q[2])});
+        }
+    }
+    return m;
+}
+
+}  // namespace
+
+DecorationField::DecorationField() : impl(std::make_unique<Impl>()) {}
+DecorationField::~DecorationField() = default;
+DecorationField::DecorationField(DecorationField&&) noexcept = default;
+DecorationField& DecorationField::operator=(DecorationField&&) noexcept = default;
+DecorationField::DecorationField(const DecorationField& other) : impl(std::make_unique<Impl>()) {
+    if (other.impl && other.impl->grid) impl->grid = other.impl->grid->deepCopy();
+}
+
+double DecorationField::voxelSize() const {
+    CAVESIM_CHECK(impl && impl->grid, "an empty decoration field");
+    return impl->grid->voxelSize()[0];
+}
+
+double DecorationField::distance(const cavesim::Vec3d& p) const {
+    CAVESIM_CHECK(impl && impl->grid, "an empty decoration field");
+    openvdb::tools::GridSampler<FloatGrid, openvdb::tools::BoxSampler> sampler(*impl->grid);
+    return sampler.wsSample(Vec3d(p[0], p[1], p[2]));
+}
+
+long DecorationField::activeVoxels() const {
+    return impl && impl->grid ? long(impl->grid->activeVoxelCount()) : 0;
+}
+
+DecorationField fieldFromMesh(const mesh::TriangleMesh& caveMesh, double voxelSize) {
+    initVdb();
+    CAVESIM_CHECK(voxelSize > 0, "voxel size must be positive");
+    CAVESIM_CHECK(!caveMesh.triangles.empty(), "an empty cave mesh");
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(caveMesh.vertices.size());
+    for (const auto& v : caveMesh.vertices) points.emplace_back(float(v[0]), float(v[1]), float(v[2]));
+    std::vector<openvdb::Vec3I> tris;
+    tris.reserve(caveMesh.triangles.size());
+    for (const auto& t : caveMesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
+    const auto xform = openvdb::math::Transform::createLinearTransform(voxelSize);
+    DecorationField f;
+    f.impl->grid = openvdb::tools::meshToLevelSet<FloatGrid>(*xform, points, tris, float(kHalfWidth));
+    f.impl->grid->setName("decoration");
+    return f;
+}
+
+DecorationField fieldFromFunction(const cavesim::Vec3d& lo, const cavesim::Vec3d& hi, double voxelSize,
+                                  const std::function<double(const cavesim::Vec3d&)>& caveDistance) {
+    initVdb();
+    CAVESIM_CHECK(voxelSize > 0, "voxel size must be positive");
+    FloatGrid::Ptr g = emptyGrid(voxelSize, kHalfWidth);
+    const float band = float(kHalfWidth * voxelSize);
+    const Coord a = Coord::round(g->worldToIndex(Vec3d(lo[0], lo[1], lo[2])));
+    const Coord b = Coord::round(g->worldToIndex(Vec3d(hi[0], hi[1], hi[2])));
+    auto acc = g->getAccessor();
+    for (int k = a.z(); k <= b.z(); ++k)
+        for (int j = a.y(); j <= b.y(); ++j)
+            for (int i = a.x(); i <= b.x(); ++i) {
+                const Vec3d x = g->indexToWorld(Coord(i, j, k));
+                const double d = caveDistance({x[0], x[1], x[2]});
+                if (std::abs(d) < band)
+                    acc.setValue(Coord(i, j, k), float(d));
+                else if (d < 0)
+                    acc.setValueOff(Coord(i, j, k), -band);
+            }
+    openvdb::tools::signedFloodFill(g->tree());
+    DecorationField f;
+    f.impl->grid = g;
+    return f;
+}
+
+void addCeilingRoughness(DecorationField& field, double amplitude, double scale, std::uint64_t seed) {
+    CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
+    if (!(amplitude > 0)) return;
+    FloatGrid::Ptr& g = field.impl->grid;
+    const double h = g->voxelSize()[0];
+    // Widen the band so the displaced surface stays inside it, then displace and rebuild.
+    const int extra = int(std::ceil(amplitude / h)) + 1;
+    FloatGrid::Ptr wide =
+        openvdb::tools::levelSetRebuild(*g, 0.f, float(kHalfWidth + extra), float(kHalfWidth + extra));
+    const std::vector<Sample> s = surfaceSamples(*wide, kHalfWidth + extra, false);
+    std::mt19937_64 rng(seed);
+    const GradientNoise noise(rng);
+    auto acc = wide->getAccessor();
+    for (const Sample& p : s) {
+        const double wgt = std::max(0.0, double(-p.nAir[2]));
+        if (wgt <= 0) continue;
+        const Vec3d x = wide->indexToWorld(p.c);
+        const double n = noise.fractal(x[0] / scale, x[1] / scale, x[2] / scale, 2);
+        acc.setValue(p.c, float(p.phi + amplitude * wgt * n));
+    }
+    g = openvdb::tools::levelSetRebuild(*wide, 0.f, float(kHalfWidth), float(kHalfWidth));
+    g->setName("decoration");
+}
+
+std::vector<Stalactite> findStalactites(const DecorationField& field, const SpeleothemOptions& options) {
+    CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
+    return analyse(*field.impl->grid, options).stalactites;
+}
+
+double stableStep(const DecorationField& field, const SpeleothemOptions& options) {
+    CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
+    const double v = maxSpeed(analyse(*field.impl->grid, options));
+    return v > 0 ? 0.5 * field.voxelSize() / v : std::numeric_limits<double>::infinity();
+}
+
+StepResult growStep(DecorationField& field, const SpeleothemOptions& options, double years) {
+    CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
+    initVdb();
+    Analysis a = analyse(*field.impl->grid, options);
+    advect(field.impl->grid, a, years);
+    return StepResult{std::move(a.stalactites), maxSpeed(a)};
+}
+
+GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std::vector<double>& frameYears,
+                  const GrowthCallback& atFrame) {
+    CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
+    initVdb();
+    GrowthResult res;
+    const double h = field.voxelSize();
+    std::size_t nextFrame = 0;
+    double t = 0;
+    bool first = true;
+    while (true) {
+        Analysis a = analyse(*field.impl->grid, o);
+        const double vmax = maxSpeed(a);
+        res.maxSpeed = std::max(res.maxSpeed, vmax);
+        if (first && atFrame) atFrame(0.0, field, a.stalactites);
+        first = false;
+        if (t >= o.years - 1e-9 || vmax <= 0) {
+            res.stalactites = std::move(a.stalactites);
+            // Frames not reached because nothing moves show the final state.
+            while (atFrame && nextFrame < frameYears.size()) {
+                if (frameYears[nextFrame] > 0) atFrame(frameYears[nextFrame], field, res.stalactites);
+                ++nextFrame;
+            }
+            break;
+        }
+        double dt = 0.5 * h / vmax;
+        if (o.timeStep > 0) dt = std::min(dt, o.timeStep);
+        dt = std::min(dt, o.years - t);
+        advect(field.impl->grid, a, dt);
+        t += dt;
+        ++res.steps;
+        while (nextFrame < frameYears.size() && frameYears[nextFrame] <= t + 1e-9) {
+            if (atFrame && frameYears[nextFrame] > 0) atFrame(t, field, findStalactites(field, o));
+            ++nextFrame;
+        }
+    }
+    res.years = t;
+    return res;
+}
+
+mesh::TriangleMesh meshField(const DecorationField& field) {
+    CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
+    return extract(*field.impl->grid);
+}
+
+mesh::TriangleMesh meshField(const DecorationField& field, const cavesim::Vec3d& lo, const cavesim::Vec3d& hi) {
+    CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
+    const openvdb::BBoxd box(Vec3d(lo[0], lo[1], lo[2]), Vec3d(hi[0], hi[1], hi[2]));
+    FloatGrid::Ptr clipped = openvdb::tools::clip(*field.impl->grid, box);
+    return extract(*clipped);
+}
+
+}  // namespace cavesim::speleo
