@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace fs = std::filesystem;
@@ -190,9 +191,7 @@ void OutputDir::commit() {
 }
 
 void writeTextFile(const fs::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    if (!out) throw RuntimeError("cannot write " + path.string());
+    writeFileAtomic(path.string(), text);
 }
 
 }  // namespace cavesim::app
