@@ -105,6 +105,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     // The cave, once: every output below describes these voxels.
     const Cave cave = makeCave(dom, s.output.cave);
 
+    reportProgress(progress, "mesh and pictures", 0, 1);  // also a safe point to stop at
     const Stopwatch tm;
     mesh::MeshOptions mo;
     mo.style = s.output.meshStyle;
@@ -119,6 +120,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
     rec.timing.mesh = tm.seconds();
 
+    reportProgress(progress, "report", 0, 1);
     const Stopwatch tr;
     const std::vector<std::optional<int>> connected =
         rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};

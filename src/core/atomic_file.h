@@ -47,8 +47,8 @@ inline void writeFileAtomic(const std::string& path, const std::string& text) {
     fs::path tmp;
     int fd = -1;
     for (int attempt = 0; fd < 0; ++attempt) {  // a name already taken by something else: the next one
-        tmp = target.parent_path() /
-              ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+        tmp = target.parent_path() / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                                      std::to_string(counter++));
         fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
         if (fd < 0 && (errno != EEXIST || attempt == 100))
             throw RuntimeError("cannot write " + path + ": cannot create " + tmp.string() + ": " +

@@ -25,6 +25,14 @@ public:
     using Error::Error;
 };
 
+/// The caller asked the operation to stop (a `ProgressFn` throws it at a safe point, e.g. when the
+/// command received SIGINT or SIGTERM). Library code lets it pass, cleaning up as it unwinds; the
+/// command removes what it staged and exits 130 or 143.
+class CancelledError : public Error {
+public:
+    using Error::Error;
+};
+
 /// A broken contract inside the library: a caller passed arguments that violate a documented
 /// precondition, or an invariant that the code itself maintains does not hold. It is a bug, never
 /// the user's fault; the command exits with code 1 and reports "internal error". Thrown by
