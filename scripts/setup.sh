@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(cmake g++ ninja-build ccache pkg-config python3
   libopenvdb-dev libboost-iostreams-dev libopenmesh-dev libboost-graph-dev
   libtbb-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
-  libpng-dev libtinygltf-dev)
+  libpng-dev zlib1g-dev libtinygltf-dev)
 
 . scripts/install_packages.sh
 install_packages setup "${PACKAGES[@]}"

@@ -5,8 +5,8 @@
 #include <cstdio>
 
 #include "app/report.h"
-#include "core/timer.h"
 #include "app/state.h"
+#include "core/timer.h"
 #include "mesh/cave_mesh.h"
 #include "mesh/cave_pictures.h"
 #include "morpho/analysis.h"
@@ -21,7 +21,6 @@
 namespace cavesim::app {
 namespace {
 
-
 void say(const LogFn& log, const std::string& message) {
     if (log) log(message);
 }
@@ -31,11 +30,12 @@ Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& 
     try {
         return runStage1(dom, s.stage1, rng, progress);
     } catch (const Stage1LimitError& e) {
-        const int line = e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
+        const int line =
+            e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
         std::string where = s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
         if (e.source >= 0) {
-            where += ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) +
-                     "' = " + std::to_string(s.stage1.maxGraphVoxels);
+            where +=
+                ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) + "' = " + std::to_string(s.stage1.maxGraphVoxels);
         }
         throw InputError(where + ": " + e.what());
     }
@@ -93,14 +93,17 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         say(options.log, "stage 2: " + std::to_string(r.iterations) + " iterations, breakthrough " +
                              (r.breakthroughIteration ? "at iteration " + std::to_string(*r.breakthroughIteration)
                                                       : std::string("none")) +
-                             ", " + std::to_string(r.history.empty() ? 0 : r.history.back().sourcesConnected) +
-                             " of " + std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
+                             ", " + std::to_string(r.history.empty() ? 0 : r.history.back().sourcesConnected) + " of " +
+                             std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
                              std::to_string(rec.timing.stage2).substr(0, 5) + " s");
     }
     const std::string statePath = dir.file("state.vdb").string();
     writeState(statePath, dom, s, StateMoment::kFinal);
-    // What `cavesim report` checks before it trusts the file: its bytes and the grid it holds.
     rec.files["state.vdb"] = stateRecord(statePath, s);
+    // What `cavesim report` reads back, and checks before it decodes: its bytes and the grid it holds.
+    const std::string checkedPath = dir.file(kCheckedStateFile).string();
+    writeCheckedState(checkedPath, dom, s);
+    rec.files[kCheckedStateFile] = stateRecord(checkedPath, s);
 
     // The cave, once: every output below describes these voxels.
     const Cave cave = makeCave(dom, s.output.cave);
@@ -131,10 +134,10 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     rec.timing.report = tr.seconds();
     rec.timing.total = t0.seconds();
     writeReport(s, dom, rec, dir.file("").string());
-    // The effective scenario also records the state.vdb it produced (a comment, ignored by the
+    // The effective scenario also records the state file it produced (a comment, ignored by the
     // parser), so `cavesim report` can check the file even when report.json is gone.
     writeTextFile(dir.file("scenario.toml"),
-                  scenarioToToml(s) + "# state.vdb: " + rec.files["state.vdb"].dump() + "\n");
+                  scenarioToToml(s) + "# " + kCheckedStateFile + ": " + rec.files[kCheckedStateFile].dump() + "\n");
 
     PipelineResult out;
     if (options.alsoMeasure) {
