@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
 # Sets up (installs dependencies, builds) and runs every test: unit tests of each module and the
-# end-to-end tests of the cavesim command, through CTest.
+# end-to-end tests of the cavesim command, through CTest; then the sanitizer build with its unit
+# tests, end-to-end runs and bounded fuzzing (scripts/sanitize.sh; CAVESIM_SANITIZE=0 skips it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 
-# Test-only tools: the readers the export tests load our files back with (tests/formats/readers.sh).
-TEST_PACKAGES=(survex therion python3-vtk9 python3-openvdb python3-numpy)
+# Test-only tools: the readers the export tests load our files back with (tests/formats/readers.sh),
+# and clang with its sanitizer and libFuzzer runtimes (scripts/sanitize.sh).
+TEST_PACKAGES=(survex therion python3-vtk9 python3-openvdb python3-numpy clang libclang-rt-dev)
 . scripts/install_packages.sh
 install_packages test "${TEST_PACKAGES[@]}"
 ctest --test-dir "${CAVESIM_BUILD_DIR:-build}" --output-on-failure --parallel "$(nproc)" --timeout 900
+if [ "${CAVESIM_SANITIZE:-1}" != 0 ]; then
+  bash scripts/sanitize.sh
+fi
