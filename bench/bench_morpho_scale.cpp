@@ -73,9 +73,6 @@ void BM_AnalyseLattice(benchmark::State& state) {
     state.counters["nodes"] = double(a.skeleton.nodes.size());
     state.counters["edges"] = double(a.skeleton.edges.size());
     state.counters["skeleton_s"] = skeleton / double(state.iterations());
-    state.counters["us_per_node"] =
-        benchmark::Counter(double(a.skeleton.nodes.size()) * 1e-6,
-                           benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_AnalyseLattice)->Arg(10)->Arg(30)->Arg(90)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
