@@ -43,20 +43,36 @@ def mutate(b, rng):
     return bytes(b)
 
 rng = random.Random(18)
-codes = {}
-bad = []
-for n in range(300):
-    data = mutate(original, rng)
-    open(os.path.join(run, "state.cavesim"), "wb").write(data)
+mutations = [mutate(original, rng) for _ in range(300)]  # fixed before any run: the same 300 every time
+
+def check(job):  # job: (worker folder, mutation number)
+    folder, n = job
+    data = mutations[n]
+    open(os.path.join(folder, "state.cavesim"), "wb").write(data)
     record = {"bytes": len(data), "fnv1a64": "%016x" % fnv(data), "grid": report["files"]["state.cavesim"]["grid"],
               "voxel_size_m": report["files"]["state.cavesim"]["voxel_size_m"]}
     r = dict(report); r["files"] = dict(report["files"]); r["files"]["state.cavesim"] = record
-    json.dump(r, open(os.path.join(run, "report.json"), "w"))
-    open(os.path.join(run, "scenario.toml"), "w").writelines(scenario + ["# state.cavesim: " + json.dumps(record) + "\n"])
-    p = subprocess.run([cavesim, "report", run], capture_output=True, text=True, timeout=60)
-    codes[p.returncode] = codes.get(p.returncode, 0) + 1
-    if p.returncode not in (0, 2):
-        bad.append((n, p.returncode, p.stderr[-300:]))
+    json.dump(r, open(os.path.join(folder, "report.json"), "w"))
+    open(os.path.join(folder, "scenario.toml"), "w").writelines(scenario + ["# state.cavesim: " + json.dumps(record) + "\n"])
+    p = subprocess.run([cavesim, "report", folder], capture_output=True, text=True, timeout=60)
+    return n, p.returncode, p.stderr[-300:]
+
+# Two workers, each on its own copy of the run folder (the machine's two cores).
+import concurrent.futures
+folders = []
+for w in range(2):
+    folders.append(run + "_w%d" % w)
+    shutil.rmtree(folders[-1], ignore_errors=True)
+    shutil.copytree(run, folders[-1])
+codes = {}
+bad = []
+with concurrent.futures.ThreadPoolExecutor(2) as pool:
+    results = list(pool.map(lambda w: [check((folders[w], n)) for n in range(w, 300, 2)], range(2)))
+for part in results:
+    for n, code, err in part:
+        codes[code] = codes.get(code, 0) + 1
+        if code not in (0, 2):
+            bad.append((n, code, err))
 print("exit codes of 300 mutated state files:", codes)
 for b in bad[:5]:
     print("FAIL: mutation %d: exit %d: %s" % b)
