@@ -21,3 +21,6 @@ endif()
 # FindOpenVDB switches BUILD_SHARED_LIBS on for the whole project; cavesim's own modules are
 # static libraries linked into one self-contained `cavesim` executable.
 set(BUILD_SHARED_LIBS OFF)
+# Cairo draws the text of every picture (DejaVu Sans through fontconfig) and the cave maps (PNG and SVG).
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg)

@@ -6,9 +6,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 
-# Test-only tools: the readers the export tests load our files back with (tests/formats/readers.sh),
-# and clang with its sanitizer and libFuzzer runtimes (scripts/sanitize.sh).
-TEST_PACKAGES=(survex therion python3-vtk9 python3-openvdb python3-numpy clang libclang-rt-dev)
+# Test-only tools: the readers the export tests load our files back with (tests/formats/readers.sh,
+# tests/cli/exports.sh); pytest, networkx and matplotlib for the Python module's tests and
+# examples/sweep_p_rate.py; headless Chromium with the DevTools client that opens report.html
+# (tests/cli/report_html.sh); clang with its sanitizer and libFuzzer runtimes (scripts/sanitize.sh).
+TEST_PACKAGES=(survex therion python3-vtk9 python3-openvdb python3-numpy python3-pytest python3-networkx
+  python3-matplotlib chromium python3-websocket python3-pil clang libclang-rt-dev)
 . scripts/install_packages.sh
 install_packages test "${TEST_PACKAGES[@]}"
 ctest --test-dir "${CAVESIM_BUILD_DIR:-build}" --output-on-failure --parallel "$(nproc)" --timeout 900

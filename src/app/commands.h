@@ -21,6 +21,8 @@ struct RunRequest {
     std::optional<std::string> seed;          ///< overrides the scenario's seed, as typed
     bool force = false;                       ///< replace a non-empty output directory
     std::optional<MeshStyle> meshStyle;       ///< overrides the scenario's mesh style
+    std::optional<std::string> formats;       ///< `--formats` list (formats::parseFormatSet), overrides
+    std::optional<MeshNormals> meshNormals;   ///< overrides the scenario's `[output] mesh_normals`
 };
 
 struct RunOutcome {

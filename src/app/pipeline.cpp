@@ -4,15 +4,18 @@
 #include <chrono>
 #include <cstdio>
 
+#include "app/cave_maps.h"
 #include "app/report.h"
 #include "app/state.h"
 #include "core/timer.h"
+#include "formats/exports.h"
 #include "mesh/cave_mesh.h"
 #include "mesh/cave_pictures.h"
 #include "morpho/analysis.h"
 #include "render/pictures.h"
 #include "render/png_io.h"
 #include "sim/cave.h"
+#include "sim/connectivity.h"
 #include "sim/domain.h"
 #include "sim/scenario_io.h"
 #include "sim/stage1.h"
@@ -25,8 +28,9 @@ void say(const LogFn& log, const std::string& message) {
     if (log) log(message);
 }
 
-/// Stage 1, with its limits reported against the scenario: file, line of the source, the key.
-Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& progress) {
+}  // namespace
+
+Stage1Result runScenarioStage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& progress) {
     try {
         return runStage1(dom, s.stage1, rng, progress);
     } catch (const Stage1LimitError& e) {
@@ -41,8 +45,6 @@ Stage1Result stage1(Domain& dom, const Scenario& s, Rng& rng, const ProgressFn& 
     }
 }
 
-}  // namespace
-
 PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {
     const Stopwatch t0;
     RunRecord rec;
@@ -55,7 +57,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
 
     if (s.stage1.enabled) {
         const Stopwatch t1;
-        rec.stage1 = stage1(dom, s, rng, progress);
+        rec.stage1 = runScenarioStage1(dom, s, rng, progress);
         rec.timing.stage1 = t1.seconds();
         writeState(dir.file("stage1.vdb").string(), dom, s, StateMoment::kAfterStage1);
         if (s.output.images) render::writeZonesPicture(dom, dir.file("images/zones.png").string(), width);
@@ -66,6 +68,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     if (s.stage2.enabled) {
         const Stopwatch t2;
         prepareStage2(dom, s.stage2);
+        rec.connectedAtStart = sourcesConnectedAtStart(dom);
         // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
         // reduced as it is taken, so the frames kept for the strip stay small at any image width.
         constexpr int kPerRow = 6, kStripWidth = 8192;
@@ -113,10 +116,12 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     mesh::MeshOptions mo;
     mo.style = s.output.meshStyle;
     const std::string imagesDir = dir.file("images").string();
+    SurfaceMesh surface;  // the cave mesh in world space, for the export formats
     if (s.output.mesh && s.output.images) {
-        rec.mesh = meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo));
+        rec.mesh =
+            meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo, &surface));
     } else if (s.output.mesh) {
-        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo));
+        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo, &surface));
     } else if (s.output.images) {
         mesh::writeCavePictures(cave, imagesDir, width);
     }
@@ -130,8 +135,24 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const Grid3<float>* pressure = s.stage2.enabled ? &dom.pressure : nullptr;
     const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, pressure, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
+    if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
+
+    reportProgress(progress, "exports", 0, 1);
+    const Stopwatch te;
+    formats::ExportInputs exports;
+    exports.domain = &dom;
+    exports.cave = &cave;
+    exports.mesh = s.output.mesh ? &surface : nullptr;
+    exports.skeleton = &analysis.skeleton;
+    exports.network = &analysis.network;
+    exports.stage2 = rec.stage2 ? &*rec.stage2 : nullptr;
+    exports.meshOptions = mo;
+    exports.glb.normals = s.output.meshNormals;
+    exports.buildMeshIfMissing = false;  // `[output] mesh = false`: no mesh in any format
+    rec.exports = formats::writeExports(exports, dir.file("").string(), formats::formatSet(s.output.formats));
+    rec.timing.exports = te.seconds();
     rec.timing.total = t0.seconds();
     writeReport(s, dom, rec, dir.file("").string());
     // The effective scenario also records the state file it produced (a comment, ignored by the

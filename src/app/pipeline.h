@@ -12,7 +12,9 @@
 #include "app/output_dir.h"
 #include "core/progress.h"
 #include "sim/options.h"
+#include "sim/domain.h"
 #include "sim/scenario.h"
+#include "sim/stage1.h"
 
 namespace cavesim::app {
 
@@ -34,6 +36,11 @@ struct PipelineResult {
     nlohmann::json report;       ///< the report.json document written
     nlohmann::json alsoMeasured; ///< with `alsoMeasure`: the report's analysis keys under that definition
 };
+
+/// Stage 1 of `scenario` on `domain` (runStage1), with a limit it exceeds reported as an InputError
+/// naming the scenario file, the line of the source and the key: the stage as a run runs it.
+/// @throw InputError for a limit the scenario exceeds; RuntimeError on a failure while running
+Stage1Result runScenarioStage1(Domain& domain, const Scenario& scenario, Rng& rng, const ProgressFn& progress);
 
 /// Builds the domain, runs the enabled stages, meshes, draws and reports into `dir` (staging).
 /// @throw InputError for limits the scenario exceeds (naming the file, line and key);

@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "app/report.h"
+#include "app/report_html.h"
 #include "app/state.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -87,7 +88,9 @@ std::string rebuildReport(const std::string& dirArg) {
     if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
     report["timing_s"]["report"] = t0.seconds();
     writeFileAtomic((dir / "report.json").string(), report.dump(2) + "\n");
-    writeFileAtomic((dir / "report.md").string(), buildReportMarkdown(s, report, dir.string()));
+    const std::string md = buildReportMarkdown(s, report, dir.string());
+    writeFileAtomic((dir / "report.md").string(), md);
+    writeReportHtml(dir.string(), md);
     return dir.string() + ": rebuilt report.json, report.md and the skeleton files";
 }
 

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/report_html.h"
+#include "app/report_section.h"
 #include "app/state.h"
 #include "core/error.h"
 #include "core/fnv.h"
@@ -196,18 +198,18 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["voxel_size_m"] = s.voxelSize;
     j["seed"] = s.seed;
     j["threads"] = rec.threads;
-    j["timing_s"] = {{"stage1", num(rec.timing.stage1)},
-                     {"stage2", num(rec.timing.stage2)},
-                     {"mesh", num(rec.timing.mesh)},
-                     {"report", num(rec.timing.report)},
-                     {"total", num(rec.timing.total)}};
+    j["timing_s"] = {{"stage1", num(rec.timing.stage1)},   {"stage2", num(rec.timing.stage2)},
+                     {"mesh", num(rec.timing.mesh)},       {"report", num(rec.timing.report)},
+                     {"exports", num(rec.timing.exports)}, {"total", num(rec.timing.total)}};
     j["stage1"] = rec.stage1 ? stage1Json(*rec.stage1) : nlohmann::json(nullptr);
     j["stage2"] =
         rec.stage2 ? stage2Json(*rec.stage2, s.voxelSize * s.voxelSize * s.voxelSize) : nlohmann::json(nullptr);
+    if (rec.stage2 && rec.connectedAtStart) j["stage2"]["connected_at_start"] = *rec.connectedAtStart;
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
     j["files"] = rec.files;
+    j["exports"] = rec.exports;
     j["checksums"] = {{"porosity", checksum(recordedPorosity(dom, s, StateMoment::kFinal))},
                       {"pressure", checksum(dom.pressure)},
                       {"flow", checksum(dom.flow)},
@@ -241,6 +243,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
        << "\n";
     md << "| mesh and pictures | " << fmt(at(t, "mesh")) << " |" << (paper ? " – |" : "") << "\n";
     md << "| skeleton and report | " << fmt(at(t, "report")) << " |" << (paper ? " – |" : "") << "\n";
+    if (t.contains("exports"))
+        md << "| files for other tools | " << fmt(at(t, "exports")) << " |" << (paper ? " – |" : "") << "\n";
     md << "| total | " << fmt(at(t, "total")) << " |" << (paper ? " – |" : "") << "\n";
 
     md << "\n## Events\n\n";
@@ -251,7 +255,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     }
     const auto& st2 = at(r, "stage2");
     if (!st2.is_null()) {
-        md << "- Stage 2: " << fmt(at(st2, "iterations")) << " iterations; breakthrough at iteration "
+        md << "- Stage 2: " << fmt(at(st2, "iterations")) << " iterations; sources joined to a sink at the start "
+           << fmt(at(st2, "connected_at_start")) << "; breakthrough at iteration "
            << fmt(at(st2, "breakthrough_iteration"))
            << "; iteration at which each source joined a sink: " << at(st2, "source_connected_iteration").dump()
            << ".\n";
@@ -275,10 +280,14 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     }
 
     md << "\n## Pictures\n\n";
+    const bool section = isSectionScenario(s);
     const std::pair<const char*, const char*> pictures[] = {{"perspective.png", "perspective"},
                                                             {"plan.png", "plan (from above)"},
                                                             {"side_xz.png", "side (x–z)"},
                                                             {"side_yz.png", "side (y–z)"},
+                                                            {"map_plan.png", "plan map"},
+                                                            {"map_section.png", "section map"},
+                                                            {"map_extended_elevation.png", "extended elevation"},
                                                             {"zones.png", "stage-1 zones and protochannels"},
                                                             {"pressure.png", "stage-2 pressure"},
                                                             {"flow.png", "stage-2 flow"},
@@ -286,7 +295,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     for (const auto& [file, caption] : pictures)
         if (fs::exists(fs::path(dir) / "images" / file)) md << "![" << caption << "](images/" << file << ")\n\n";
 
-    const auto& mo = at(r, "morphometry");
+    if (section) md << sectionMeasuresMarkdown(s, r);
+    const auto& mo = section ? at(r, "") : at(r, "morphometry");  // a section has no plan indices
     if (!mo.is_null()) {
         md << "## Morphometric indices (paper §4.2)\n\n";
         md << "Cave length " << fmt(at(mo, "length_m")) << " m, plan area " << fmt(at(mo, "area_m2")) << " m², volume "
@@ -309,9 +319,8 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
             const auto* confined3 = findReferenceRange(rectKey.c_str(), "confined", 3);
             md << "| " << x.label << " | " << fmt(opt) << inRange(opt, confined2) << " | " << fmt(rect)
                << inRange(rect, confined3) << " | " << rangeText(findReferenceRange(optKey.c_str(), "unconfined", 2))
-               << " | " << rangeText(confined2) << " | "
-               << rangeText(findReferenceRange(rectKey.c_str(), "chamber", 3)) << " | " << rangeText(confined3)
-               << " |";
+               << " | " << rangeText(confined2) << " | " << rangeText(findReferenceRange(rectKey.c_str(), "chamber", 3))
+               << " | " << rangeText(confined3) << " |";
             if (paper) md << " " << paperIndexText(*paper, row) << " |";
             md << "\n";
             ++row;
@@ -326,20 +335,24 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
               "|---|---|---|---|\n";
         // In the order the report has always listed them.
         for (const char* key : {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"}) {
+            if (section && std::string(key) == "h_or") continue;  // plan azimuths: none in a section
             const morpho::ReferenceRange* m = morpho::findReferenceRange(key, "real caves", 0);
-            md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key)) << inRange(at(gm, key), m)
-               << " | " << rangeText(m) << " |\n";
+            md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key))
+               << inRange(at(gm, key), m) << " | " << rangeText(m) << " |\n";
         }
     }
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
-          "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`.\n";
+          "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`, `report.html` (this report with "
+          "a 3D view), `images/map_*` (cave maps).\n";
     return md.str();
 }
 
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir) {
     rec.json = buildReportJson(s, dom, rec);
     writeFileAtomic((fs::path(dir) / "report.json").string(), rec.json.dump(2) + "\n");
-    writeFileAtomic((fs::path(dir) / "report.md").string(), buildReportMarkdown(s, rec.json, dir));
+    const std::string md = buildReportMarkdown(s, rec.json, dir);
+    writeFileAtomic((fs::path(dir) / "report.md").string(), md);
+    writeReportHtml(dir, md);
 }
 
 }  // namespace cavesim::app

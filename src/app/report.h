@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -23,7 +24,7 @@ struct CaveAnalysis;
 namespace cavesim::app {
 
 struct Timing {
-    double stage1 = 0, stage2 = 0, mesh = 0, report = 0, total = 0;
+    double stage1 = 0, stage2 = 0, mesh = 0, report = 0, exports = 0, total = 0;
 };
 
 /// What a run produced besides the grids.
@@ -31,11 +32,15 @@ struct RunRecord {
     int threads = 1;
     std::optional<Stage1Result> stage1;
     std::optional<Stage2Result> stage2;
+    /// Sources joined to a sink through channel or protochannel voxels before stage 2's first
+    /// iteration (sim/connectivity.h); empty when stage 2 did not run.
+    std::optional<int> connectedAtStart;
     Timing timing;
-    nlohmann::json mesh;      ///< mesh statistics (null when no mesh was written)
-    nlohmann::json analysis;  ///< {network, morphometry, graph_metrics, skeleton, category}
+    nlohmann::json mesh;                              ///< mesh statistics (null when no mesh was written)
+    nlohmann::json analysis;                          ///< {network, morphometry, graph_metrics, skeleton, category}
     nlohmann::json files = nlohmann::json::object();  ///< fingerprints of written files, by name
-    nlohmann::json json;      ///< filled by writeReport: the report.json document
+    std::vector<std::string> exports;                 ///< the files of `[output] formats` written, in format order
+    nlohmann::json json;                              ///< filled by writeReport: the report.json document
 };
 
 nlohmann::json meshJson(const mesh::MeshStats& stats);
@@ -68,8 +73,5 @@ std::string paperIndexText(const PaperCave& paper, int row);
 
 /// A report value as text: integers as they are, reals to `digits` significant digits, null "–".
 std::string formatValue(const nlohmann::json& v, int digits = 3);
-
-
-
 
 }  // namespace cavesim::app

@@ -9,6 +9,8 @@
 #include "app/commands.h"
 #include "app/output_dir.h"
 #include "core/error.h"
+#include "formats/exports.h"
+#include "sim/preflight.h"
 #include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
@@ -24,7 +26,7 @@ std::string validateSummary(const std::string& path) {
                   path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize, s.sources.size(),
                   s.sinks.size(), s.stage1.enabled ? "on" : "off",
                   s.stage2.enabled ? (std::to_string(s.stage2.iterations) + " iterations").c_str() : "off");
-    return buf;
+    return std::string(buf) + "; " + describeEstimate(estimateRun(s, int(tbb::info::default_concurrency())));
 }
 
 std::uint64_t parseSeed(const std::string& text) {
@@ -44,16 +46,19 @@ Scenario requestedScenario(const RunRequest& request) {
     Scenario s = request.scenarioPath ? parseScenarioFile(*request.scenarioPath) : defaultScenario();
     if (request.seed) s.seed = parseSeed(*request.seed);
     if (request.meshStyle) s.output.meshStyle = *request.meshStyle;
+    if (request.formats) s.output.formats = formats::formatList(formats::parseFormatSet(*request.formats));
+    if (request.meshNormals) s.output.meshNormals = *request.meshNormals;
     validateScenario(s);
     return s;
 }
 
 RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbacks) {
     const Scenario s = requestedScenario(request);
+    const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
+    checkMemory(estimateRun(s, threads), readMemoryLimits());  // before any work, the output folder included
     const fs::path out = request.outDir.empty() ? fs::path("out") / s.name : fs::path(request.outDir);
     OutputDir dir(out, request.force);  // refuses a non-empty directory before any work
 
-    const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     PipelineOptions options = callbacks;
     options.threads = threads;

@@ -33,7 +33,7 @@ int stopSignal() {
 void throwIfStopped() {
     const int sig = stopSignal();
     if (sig != 0)
-        throw CancelledError(sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal " + std::to_string(sig));
+        throw Cancelled(sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal " + std::to_string(sig));
 }
 
 }  // namespace cavesim::cli

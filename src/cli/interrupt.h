@@ -12,7 +12,7 @@ void installStopHandlers();
 /// The signal received since installStopHandlers(), or 0.
 int stopSignal();
 
-/// Throws `CancelledError` naming the signal when one was received: called from the progress and
+/// Throws `Cancelled` naming the signal when one was received: called from the progress and
 /// log callbacks, the safe points of a run.
 void throwIfStopped();
 

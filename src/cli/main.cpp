@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
     runCmd->add_flag("--force,-f", run.force, "Replace a non-empty output directory");
     runCmd->add_option("--mesh-style", meshStyle, "smooth (default) or voxel (also writes the blocky mesh)")
         ->check(CLI::IsMember({"smooth", "voxel"}));
+    runCmd->add_option("--formats", run.formats,
+                       "Files for other tools, a comma list of glb, vtk, stl, svx, th, gocad, csv, vdb, or all, "
+                       "or none (default: the scenario's [output] formats, glb,vtk,svx,csv)");
+    std::string meshNormals;
+    runCmd->add_option("--mesh-normals", meshNormals, "outward (default) or inward: the side cave.glb's normals face")
+        ->check(CLI::IsMember({"outward", "inward"}));
     runCmd->add_flag("--quiet,-q", quiet, "No progress output");
 
     std::string validatePath;
@@ -67,6 +73,8 @@ int main(int argc, char** argv) {
     try {
         if (*runCmd) {
             if (!meshStyle.empty()) run.meshStyle = meshStyle == "voxel" ? MeshStyle::kVoxel : MeshStyle::kSmooth;
+            if (!meshNormals.empty())
+                run.meshNormals = meshNormals == "inward" ? MeshNormals::kInward : MeshNormals::kOutward;
             cli::ProgressBar bar(quiet);
             cli::installStopHandlers();  // the callbacks below are the run's safe points
             app::PipelineOptions callbacks;
@@ -101,7 +109,7 @@ int main(int argc, char** argv) {
             app::reproduce(repro, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
             return 0;
         }
-    } catch (const CancelledError& e) {
+    } catch (const Cancelled& e) {
         std::fprintf(stderr, "\ncavesim: interrupted by %s: stopped, the unfinished output was removed\n", e.what());
         return 128 + cli::stopSignal();
     } catch (const InputError& e) {

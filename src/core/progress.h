@@ -9,7 +9,7 @@ namespace cavesim {
 
 /// Called by long operations: `phase` names the work, `done` of `total` units are finished.
 /// May be empty. Library code never prints. Every call is a safe point: the callback may throw
-/// `CancelledError` (core/error.h) to stop the operation there, and library code must then unwind
+/// `Cancelled` (core/error.h) to stop the operation there, and library code must then unwind
 /// without leaving anything half-written (destructors clean up; nothing catches it on the way).
 using ProgressFn = std::function<void(const std::string& phase, long done, long total)>;
 

@@ -24,7 +24,60 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Min-heap of (value, voxel); equal values pop in voxel order, so runs are reproducible.
 using HeapEntry = std::pair<double, std::size_t>;
-using MinHeap = std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<HeapEntry>>;
+/// The same operations and order as std::priority_queue with std::greater, with its vector open
+/// (EikonalField keeps pending entries between calls).
+struct MinHeap {
+    std::vector<HeapEntry> c;
+    bool empty() const { return c.empty(); }
+    const HeapEntry& top() const { return c.front(); }
+    void push(const HeapEntry& e) {
+        c.push_back(e);
+        std::push_heap(c.begin(), c.end(), std::greater<HeapEntry>());
+    }
+    void pop() {
+        std::pop_heap(c.begin(), c.end(), std::greater<HeapEntry>());
+        c.pop_back();
+    }
+    /// No entry left is below this.
+    double bound() const { return c.front().first; }
+};
+
+/// Entries in buckets of values [b·width, (b+1)·width): a bucket queue (Dial). With a width at
+/// most the smallest edge cost, nothing popped from a bucket can lower another entry of the same
+/// bucket, so a bucket may be drained in any order and each voxel settles once, as with a heap,
+/// at O(1) per push and pop. With a wider bucket a voxel may be lowered again within its bucket;
+/// the sweep is label-correcting either way and ends at the same values (each value is the
+/// minimum over paths of the same rounded path costs, whatever the order).
+struct BucketQueue {
+    EikonalField::Buckets& q;
+    bool empty() const { return q.count == 0; }
+    std::size_t index(double v) const {
+        const double b = v / q.width;
+        return b >= double(q.bucket.size() - 1) ? q.bucket.size() - 1 : std::size_t(b);
+    }
+    void push(const HeapEntry& e) {
+        const std::size_t b = index(e.first);
+        q.bucket[b].push_back(e);
+        q.lowest = std::min(q.lowest, b);
+        ++q.count;
+    }
+    const HeapEntry& top() {
+        while (q.bucket[q.lowest].empty()) {
+            // A drained bucket gives its memory back: the buckets together hold only the front.
+            if (q.bucket[q.lowest].capacity() > 64) std::vector<HeapEntry>().swap(q.bucket[q.lowest]);
+            ++q.lowest;
+        }
+        return q.bucket[q.lowest].back();
+    }
+    void pop() {
+        q.bucket[q.lowest].pop_back();
+        --q.count;
+    }
+    double bound() {
+        top();
+        return double(q.lowest) * q.width;
+    }
+};
 
 /// Smallest value of the two neighbours along one axis; −x and +x (or −y/+y, −z/+z) are combined
 /// by std::min, which is symmetric, so mirrored inputs give mirrored results.
@@ -60,8 +113,10 @@ double fullUpdate(const Dims& d, const Index3& p, const Get& get, double f, Sten
 /// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
 /// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel
 /// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
+template <typename Queue>
 std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
-                  Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched) {
+                  Stencil stencil, Grid3<double>& value, Queue& heap, std::vector<std::uint8_t>* touched,
+                  std::vector<std::size_t>* touchedList = nullptr, double limit = kInf) {
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value[n]; };
     const bool diagonal = stencil == Stencil::kAvalanche26;
@@ -77,11 +132,12 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
             heap.push({u, r});
             if (touched && !(*touched)[r]) {
                 (*touched)[r] = 1;
+                if (touchedList) touchedList->push_back(r);
                 ++changes;
             }
         }
     };
-    while (!heap.empty()) {
+    while (!heap.empty() && heap.bound() <= limit) {
         const double v = heap.top().first;  // named, not bound: the lambda below captures it (C++17)
         const std::size_t q = heap.top().second;
         heap.pop();
@@ -149,6 +205,7 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     stencil_ = stencil;
     value_ = Grid3<double>(dims, cap);
     seed_.assign(dims.count(), 0);
+    pending_.clear();
     MinHeap heap;
     for (const Seed& s : seeds) {
         CAVESIM_CHECK(s.voxel < dims.count(), "EikonalField::solve: seed voxel " + std::to_string(s.voxel) +
@@ -157,29 +214,97 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
         if (!seed_[s.voxel] || v < value_[s.voxel]) value_[s.voxel] = v;
         seed_[s.voxel] = 1;
     }
+    useBuckets_ = false;
+    buckets_ = Buckets{};
+    if (stencil == Stencil::kAvalanche26) {
+        // A bucket queue when buckets as wide as the smallest edge cost (the smallest slowness
+        // times 1) cover [0, cap] with at most 2^21 of them; a heap otherwise.
+        float smallest = std::numeric_limits<float>::infinity();
+        for (float x : slowness.data) smallest = std::min(smallest, x);
+        const double count = cap / double(smallest);
+        if (smallest > 0 && std::isfinite(count) && count < double(1 << 21)) {
+            useBuckets_ = true;
+            buckets_.width = double(smallest);
+            buckets_.bucket.resize(std::size_t(count) + 2);
+            buckets_.lowest = buckets_.bucket.size() - 1;
+            BucketQueue queue{buckets_};
+            for (std::size_t n = 0; n < seed_.size(); ++n)
+                if (seed_[n]) queue.push({value_[n], n});
+            relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
+            return;
+        }
+    }
     for (std::size_t n = 0; n < seed_.size(); ++n)
         if (seed_[n]) heap.push({value_[n], n});
     relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, nullptr);
 }
 
-std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed) {
-    MinHeap heap;
-    std::vector<std::uint8_t> touched(dims_.count(), 0);
+std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed,
+                                   double limit) {
+    // `touched_` stays allocated between calls and only the entries set here are cleared again, so
+    // the cost follows the voxels that change, not the grid.
+    std::vector<std::uint8_t>& touched = touched_;
+    if (touched.size() != dims_.count()) touched.assign(dims_.count(), 0);
+    std::vector<std::size_t> touchedList;
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value_[n]; };
-    for (std::size_t q : changed) {
-        if (q >= value_.size() || seed_[q]) continue;
-        const double u = fullUpdate(dims_, dims_.coord(q), get, slowness[q], stencil_, cap_);
-        if (u < value_[q]) {
-            value_[q] = u;
-            heap.push({u, q});
-            if (!touched[q]) {
-                touched[q] = 1;
-                ++changes;
+    const auto run = [&](auto& queue) {
+        for (std::size_t q : changed) {
+            if (q >= value_.size() || seed_[q]) continue;
+            const double u = fullUpdate(dims_, dims_.coord(q), get, slowness[q], stencil_, cap_);
+            if (u < value_[q]) {
+                value_[q] = u;
+                queue.push({u, q});
+                if (!touched[q]) {
+                    touched[q] = 1;
+                    touchedList.push_back(q);
+                    ++changes;
+                }
             }
         }
+        changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
+        for (std::size_t q : touchedList) touched[q] = 0;
+    };
+    // Entries above the limit wait for a later call. Stale ones (their voxel fell since) and
+    // duplicates are dropped when they pile up, so the pending entries stay near the size of the
+    // front they stand for.
+    const auto current = [&](std::vector<HeapEntry>& entries) {
+        std::vector<HeapEntry> keep;
+        for (const HeapEntry& e : entries)
+            if (e.first == value_[e.second] && !touched[e.second]) {
+                touched[e.second] = 1;
+                keep.push_back(e);
+            }
+        for (const HeapEntry& e : keep) touched[e.second] = 0;
+        entries.swap(keep);
+    };
+    if (useBuckets_) {
+        BucketQueue queue{buckets_};
+        run(queue);
+        if (buckets_.count > std::max<std::size_t>(std::size_t(1) << 16, 2 * buckets_.compacted)) {
+            buckets_.count = 0;
+            for (std::size_t b = buckets_.lowest; b < buckets_.bucket.size(); ++b) {
+                current(buckets_.bucket[b]);
+                buckets_.count += buckets_.bucket[b].size();
+            }
+            buckets_.compacted = buckets_.count;
+        }
+        return changes;
     }
-    return changes + relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, &touched);
+    MinHeap heap;
+    heap.c.swap(pending_);
+    run(heap);
+    if (heap.c.size() > std::max<std::size_t>(std::size_t(1) << 16, 2 * pendingCompacted_)) {
+        current(heap.c);
+        std::make_heap(heap.c.begin(), heap.c.end(), std::greater<HeapEntry>());
+        pendingCompacted_ = heap.c.size();
+    }
+    pending_.swap(heap.c);
+    return changes;
+}
+
+std::size_t EikonalField::settle(const Grid3<float>& slowness) {
+    return decrease(slowness, {}, kInf);
 }
 
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,

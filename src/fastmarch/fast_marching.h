@@ -1,6 +1,7 @@
 /// @file fast_marching.h
 /// @brief Fast marching on the voxel grid (Sethian 1996): first-order Godunov upwind update over
-/// the 6 face neighbours, a binary heap ordering the narrow band.
+/// the 6 face neighbours, a binary heap ordering the narrow band (the 26-neighbour avalanche
+/// stencil uses a bucket queue where the buckets can be as narrow as its smallest edge cost).
 ///
 /// Two uses in cavesim (Pytel & Mann, JCGT 2015):
 ///  - `marchLabelled`: several labelled fronts race; every voxel takes the label of the front that
@@ -16,6 +17,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "core/grid.h"
@@ -74,8 +77,30 @@ public:
     /// Incremental update after the slowness of the voxels in `changed` has decreased (and nowhere
     /// increased): values only fall. Re-propagates from the changed voxels and their neighbours
     /// with a label-correcting heap sweep; equals a fresh `solve` up to round-off.
+    ///
+    /// With a finite `limit` the sweep stops at values above it: every voxel whose value is at
+    /// most `limit` is then final, every other one may still be too high, and the rest of the sweep
+    /// waits (pending) for the next call or `settle`. Values computed in several such steps are the
+    /// same bits as in one step (each is the minimum over paths of the same rounded path costs).
+    /// @return the number of voxels whose value changed in this call
+    std::size_t decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed,
+                         double limit = std::numeric_limits<double>::infinity());
+
+    /// Completes a limited `decrease`: afterwards every value is final.
     /// @return the number of voxels whose value changed
-    std::size_t decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed);
+    std::size_t settle(const Grid3<float>& slowness);
+
+    /// True when no limited sweep is pending (every value is final).
+    bool settled() const { return pending_.empty() && buckets_.count == 0; }
+
+    /// The avalanche stencil's queue: entries (value, voxel) bucketed by value.
+    struct Buckets {
+        std::vector<std::vector<std::pair<double, std::size_t>>> bucket;
+        double width = 1.0;         ///< value range of one bucket
+        std::size_t lowest = 0;     ///< no entry lies in a bucket below this
+        std::size_t count = 0;      ///< entries (pending ones between calls)
+        std::size_t compacted = 0;  ///< count after the last clean-up
+    };
 
     const Grid3<double>& value() const { return value_; }
     double cap() const { return cap_; }
@@ -85,7 +110,12 @@ private:
     double cap_ = 0.0;
     Stencil stencil_ = Stencil::kFace6;
     Grid3<double> value_;
-    std::vector<std::uint8_t> seed_;  ///< 1 where a seed holds its value
+    std::vector<std::uint8_t> seed_;                       ///< 1 where a seed holds its value
+    std::vector<std::uint8_t> touched_;                    ///< scratch of `decrease`, all 0 between calls
+    std::vector<std::pair<double, std::size_t>> pending_;  ///< heap entries above the last limit
+    std::size_t pendingCompacted_ = 0;                     ///< size of pending_ after its last clean-up
+    Buckets buckets_;                                      ///< kAvalanche26: the queue; pending entries between calls
+    bool useBuckets_ = false;                              ///< the queue is `buckets_` (else a heap)
 };
 
 /// The first-order Godunov upwind update of one voxel from the values of its face neighbours

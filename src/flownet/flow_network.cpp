@@ -115,6 +115,7 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
     net.source = NodeId(n);
     net.sink = NodeId(n + 1);
     net.voxelOfNode = voxels;
+    net.dims = d;
     net.sources = nodesOf(voxels, sources, "source");
     net.protosinks = nodesOf(voxels, protosinks, "protosink");
     std::vector<std::uint8_t> role(n, kPlain);
@@ -132,35 +133,39 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
         open[i] = options.capacityExponent == 1.0 ? r : std::pow(r, options.capacityExponent);
     }
 
-    // Face neighbour of node i in direction f, or −1 (not in the grid or not a node). The sorted
-    // voxel list makes ±x a look at the adjacent entry and the rest a binary search.
-    const auto neighbour = [&](std::size_t i, const Index3& p, int f) -> std::int64_t {
-        const NeighbourOffset& o = faceNeighbours()[f];
-        if (!d.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) return -1;
+    // Link offsets: the 6 face neighbours, or all 26 (lengths 1, √2, √3).
+    std::vector<NeighbourOffset> offsets;
+    if (options.links == LinkStencil::kFace6)
+        offsets.assign(faceNeighbours().begin(), faceNeighbours().end());
+    else
+        offsets.assign(allNeighbours().begin(), allNeighbours().end());
+    const std::size_t nOff = offsets.size();
+    // Node of each voxel in [voxels.front(), voxels.back()] (kNone where the voxel is not a node).
+    constexpr NodeId kNone = std::numeric_limits<NodeId>::max();
+    const std::size_t lo = n ? voxels.front() : 0;
+    std::vector<NodeId> nodeAt(n ? voxels.back() - lo + 1 : 0, kNone);
+    for (std::size_t i = 0; i < n; ++i) nodeAt[voxels[i] - lo] = NodeId(i);
+    const auto neighbour = [&](const Index3& p, const NeighbourOffset& o) -> NodeId {
+        if (!d.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) return kNone;
         const std::size_t w = d.index(p.i + o.di, p.j + o.dj, p.k + o.dk);
-        if (f == 0) return (i > 0 && voxels[i - 1] == w) ? std::int64_t(i - 1) : -1;
-        if (f == 1) return (i + 1 < n && voxels[i + 1] == w) ? std::int64_t(i + 1) : -1;
-        const auto it = w < voxels[i] ? std::lower_bound(voxels.begin(), voxels.begin() + std::ptrdiff_t(i), w)
-                                      : std::lower_bound(voxels.begin() + std::ptrdiff_t(i) + 1, voxels.end(), w);
-        return (it != voxels.end() && *it == w) ? std::int64_t(it - voxels.begin()) : -1;
+        return (w >= lo && w - lo < nodeAt.size()) ? nodeAt[w - lo] : kNone;
     };
     // An undirected pair is kept when it can carry flow in at least one direction.
     const auto kept = [&](std::size_t a, std::size_t b) {
         return std::min(open[a], open[b]) > 0 && !(role[a] == kProtosinkRole && role[b] == kProtosinkRole);
     };
 
-    // Pass 1: neighbours of every node (6 per node, −1 where none or dropped) and arc counts.
-    constexpr NodeId kNone = std::numeric_limits<NodeId>::max();
-    std::vector<NodeId> nbr(n * 6, kNone);
+    // Pass 1: neighbours of every node (kNone where none or dropped) and arc counts.
+    std::vector<NodeId> nbr(n * nOff, kNone);
     net.arcBegin.assign(n + 3, 0);
     std::size_t arcs = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const Index3 p = d.coord(voxels[i]);
         std::size_t deg = role[i] == kPlain ? 0 : 1;  // terminal arc
-        for (int f = 0; f < 6; ++f) {
-            const std::int64_t j = neighbour(i, p, f);
-            if (j >= 0 && kept(i, std::size_t(j))) {
-                nbr[i * 6 + f] = NodeId(j);
+        for (std::size_t f = 0; f < nOff; ++f) {
+            const NodeId j = neighbour(p, offsets[f]);
+            if (j != kNone && kept(i, j)) {
+                nbr[i * nOff + f] = j;
                 ++deg;
             }
         }
@@ -168,6 +173,8 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
         arcs += deg;
         if (arcs > kMaxArcs) throw std::length_error("buildFlowNetwork: more than 2^32 − 1 arcs");
     }
+    nodeAt.clear();
+    nodeAt.shrink_to_fit();
     net.arcBegin[n] = ArcId(arcs);
     arcs += net.sources.size();
     net.arcBegin[n + 1] = ArcId(arcs);
@@ -175,25 +182,28 @@ FlowNetwork buildFlowNetwork(const Grid3<float>& porosity, const std::vector<std
     if (arcs > kMaxArcs) throw std::length_error("buildFlowNetwork: more than 2^32 − 1 arcs");
     net.arcBegin[n + 2] = ArcId(arcs);
 
-    // Pass 2: targets and capacities; terminal capacities fixed once the voxel total is known.
+    // Pass 2: targets, capacities (conductance R^e / length) and resistances (length / R^e);
+    // terminal capacities fixed once the voxel total is known.
     net.arcTarget.resize(arcs);
     net.capacity.assign(arcs, 0.0);
     net.resistance.assign(arcs, 0.0);
     double total = 0;
     for (std::size_t i = 0; i < n; ++i) {
         ArcId e = net.arcBegin[i];
-        for (int f = 0; f < 6; ++f) {
-            const NodeId j = nbr[i * 6 + f];
+        for (std::size_t f = 0; f < nOff; ++f) {
+            const NodeId j = nbr[i * nOff + f];
             if (j == kNone) continue;
-            net.arcTarget[e] = NodeId(j);
+            net.arcTarget[e] = j;
+            const double length = offsets[f].length;
             const double link = std::min(open[i], open[std::size_t(j)]);
-            const double c = role[i] == kProtosinkRole ? 0.0 : link;
+            const double c = role[i] == kProtosinkRole ? 0.0 : link / length;
             net.capacity[e] = c;
-            net.resistance[e] = 1.0 / link;
+            net.resistance[e] = length / link;
             if (options.resistanceJitter > 0) {
-                const std::size_t lo = std::min(voxels[i], voxels[std::size_t(j)]);
-                const std::size_t hi = std::max(voxels[i], voxels[std::size_t(j)]);
-                net.resistance[e] *= 1.0 + options.resistanceJitter * unitHash(lo, hi, options.jitterSeed);
+                const std::size_t a = std::min(voxels[i], voxels[std::size_t(j)]);
+                const std::size_t b = std::max(voxels[i], voxels[std::size_t(j)]);
+                net.resistance[e] *=
+                    std::exp(2.0 * options.resistanceJitter * (2.0 * unitHash(a, b, options.jitterSeed) - 1.0));
             }
             total += c;
             ++e;

@@ -3,10 +3,12 @@
 #include "flownet/protochannels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 
 #include "core/check.h"
+#include "core/vec3.h"
 
 namespace cavesim::flownet {
 namespace {
@@ -33,7 +35,7 @@ ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult&
     for (NodeId s : net.sources) state[s] = kSourceNode;
 
     // Upstream neighbour of v: the voxel whose arc into v carries the most flow (ties: lower id).
-    const auto upstream = [&](NodeId v) -> std::int64_t {
+    const auto mostFlow = [&](NodeId v) -> std::int64_t {
         std::int64_t best = -1;
         double bestFlow = 0;
         for (ArcId a = net.arcBegin[v]; a < net.arcBegin[v + 1]; ++a) {
@@ -47,7 +49,73 @@ ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult&
         }
         return best;
     };
-    // A source voxel or tree voxel sharing a face with v, other than `from`; sources first, then
+    const bool directed = options.followFlowDirection && !net.voxelOfNode.empty() && net.dims.count() > 0;
+    const auto position = [&](NodeId v) {
+        const Index3 p = net.dims.coord(net.voxelOfNode[v]);
+        return Vec3d{double(p.i), double(p.j), double(p.k)};
+    };
+    // Downstream flow direction through v: Σ |flow| × unit vector of each voxel arc, downstream.
+    const auto flowDirection = [&](NodeId v) {
+        const Vec3d pv = position(v);
+        Vec3d sum{0, 0, 0};
+        for (ArcId a = net.arcBegin[v]; a < net.arcBegin[v + 1]; ++a) {
+            const NodeId u = net.arcTarget[a];
+            if (u >= n || flow[a] == 0) continue;
+            const Vec3d pu = position(u);
+            const double len = std::sqrt((pu[0] - pv[0]) * (pu[0] - pv[0]) + (pu[1] - pv[1]) * (pu[1] - pv[1]) +
+                                         (pu[2] - pv[2]) * (pu[2] - pv[2]));
+            // Outflow v→u points along u − v; inflow u→v (flow[a] < 0) along v − u: both flow[a]·(u − v).
+            for (int c = 0; c < 3; ++c) sum[c] += flow[a] * (pu[c] - pv[c]) / len;
+        }
+        return sum;
+    };
+    const auto normalised = [](Vec3d h) {
+        const double len = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+        if (len > 0)
+            for (double& c : h) c /= len;
+        return h;
+    };
+    // The walk's state for the directed rule: heading (downstream, unit) and the digital-line point.
+    Vec3d heading{0, 0, 0}, point{0, 0, 0};
+    const auto startWalk = [&](NodeId v) {
+        heading = normalised(flowDirection(v));
+        point = position(v);
+    };
+    const auto upstream = [&](NodeId v) -> std::int64_t {
+        if (!directed) return mostFlow(v);
+        const Vec3d f = normalised(flowDirection(v));
+        for (int c = 0; c < 3; ++c) heading[c] += 0.5 * f[c];
+        heading = normalised(heading);
+        const double longest = std::max({std::abs(heading[0]), std::abs(heading[1]), std::abs(heading[2])});
+        if (!(longest > 0)) return mostFlow(v);
+        Vec3d target = point;
+        for (int c = 0; c < 3; ++c) target[c] -= heading[c] / longest;
+        std::int64_t best = -1;
+        double bestD = 0, bestFlow = 0;
+        for (ArcId a = net.arcBegin[v]; a < net.arcBegin[v + 1]; ++a) {
+            const NodeId u = net.arcTarget[a];
+            if (u >= n) continue;
+            const double in = -flow[a];
+            if (!(in > 0)) continue;
+            const Vec3d pu = position(u);
+            const double dd = (pu[0] - target[0]) * (pu[0] - target[0]) + (pu[1] - target[1]) * (pu[1] - target[1]) +
+                              (pu[2] - target[2]) * (pu[2] - target[2]);
+            if (best < 0 || dd < bestD || (dd == bestD && (in > bestFlow || (in == bestFlow && u < best)))) {
+                best = u;
+                bestD = dd;
+                bestFlow = in;
+            }
+        }
+        if (best >= 0) {
+            // Keep the point on its line while the walk follows it; start afresh where it could not.
+            const Vec3d pu = position(NodeId(best));
+            const double off =
+                std::max({std::abs(pu[0] - target[0]), std::abs(pu[1] - target[1]), std::abs(pu[2] - target[2])});
+            point = off <= 0.5 ? target : pu;
+        }
+        return best;
+    };
+    // A source voxel or tree voxel linked to v, other than `from`; sources first, then
     // the one sending v the most flow, then the lower id. −1 if none.
     const auto contact = [&](NodeId v, NodeId from) -> std::int64_t {
         std::int64_t best = -1;
@@ -89,6 +157,7 @@ ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult&
     std::vector<NodeId> path, parents;
     for (const auto& [in, p] : sinks) {
         if (in < options.minSinkFraction * largest) break;
+        if (directed) startWalk(p);
         std::int64_t first = upstream(p);
         NodeId from = p;
         for (std::size_t steps = 0;

@@ -51,6 +51,19 @@ FormatSet parseFormatSet(const std::string& list) {
     return set;
 }
 
+FormatSet formatSet(const std::vector<Format>& list) {
+    FormatSet set;
+    for (const Format f : list) set.add(f);
+    return set;
+}
+
+std::vector<Format> formatList(const FormatSet& set) {
+    std::vector<Format> out;
+    for (std::size_t f = 0; f < kNames.size(); ++f)
+        if (set.has(Format(f))) out.push_back(Format(f));
+    return out;
+}
+
 std::string toString(const FormatSet& set) {
     std::string s;
     for (std::size_t f = 0; f < kNames.size(); ++f)

@@ -33,8 +33,8 @@
 
 namespace cavesim::formats {
 
-/// One export format (a group of files, see the file comment).
-enum class Format : std::uint8_t { kGlb, kVtk, kStl, kSvx, kTh, kGocad, kCsv, kVdb };
+/// One export format (a group of files, see the file comment): `[output] formats`.
+using Format = ExportFormat;
 
 /// A set of formats, in the fixed order of `Format`.
 struct FormatSet {
@@ -48,7 +48,13 @@ struct FormatSet {
     friend bool operator==(const FormatSet& a, const FormatSet& b) { return a.bits == b.bits; }
 };
 
-/// The default `--formats` value.
+/// The set of a scenario's `[output] formats` list.
+FormatSet formatSet(const std::vector<Format>& list);
+
+/// The formats of a set, in `Format` order.
+std::vector<Format> formatList(const FormatSet& set);
+
+/// The default `--formats` value (`OutputOptions::formats`' default).
 inline constexpr const char* kDefaultFormats = "glb,vtk,svx,csv";
 
 /// Parses a comma list of format names (glb, vtk, stl, svx, th, gocad, csv, vdb), `all`, or

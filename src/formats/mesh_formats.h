@@ -9,15 +9,13 @@
 #include <string>
 
 #include "core/surface_mesh.h"
+#include "sim/options.h"
 
 namespace cavesim::formats {
 
-/// Which side of the cave wall the glTF normals face.
-enum class NormalSide {
-    kOutward,  ///< out of the cave, into the rock: the cave seen from outside (default)
-    kInward,   ///< into the cave: triangles re-wound and normals negated, so a renderer that culls
-               ///< back faces shows the walls from inside (games, walk-throughs)
-};
+/// Which side of the cave wall the glTF normals face (`[output] mesh_normals`). kInward: triangles
+/// re-wound and normals negated, so a renderer that culls back faces shows the walls from inside.
+using NormalSide = MeshNormals;
 
 /// Options of `writeGlb`.
 struct GlbOptions {

@@ -248,7 +248,7 @@ std::string depthLabel(render::View view) {
         case render::View::kSideYZ:
             return "distance from x = max face (m)";
         default:
-            return "distance from viewer (m)";
+            return "elevation above block base (m)";
     }
 }
 
@@ -304,8 +304,16 @@ void shade(Image& img, const Frame& f, const GBuffer& g) {
                 const double head = std::max(0.0, -(n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]));
                 const Vec3d half = comb(light, 1.0, dir, -1.0, dir, 0.0);
                 const double spec = std::pow(std::max(0.0, n[0] * half[0] + n[1] * half[1] + n[2] * half[2]), 40.0);
-                const double t = std::clamp((double(d) - f.depthMin) / range, 0.0, 1.0);
-                Rgb c = render::scale(render::depthRamp(t), 0.28 + 0.55 * ndl + 0.32 * head);
+                // Perspective: colour by elevation (viridis, block base to top), what a geologist
+                // reads as depth; orthographic views: by distance along the view.
+                Rgb base;
+                if (cam.perspective) {
+                    const double along = double(d) / std::max(1e-12, dot(dir, cam.forward));
+                    base = render::viridis((o[2] + along * dir[2]) / std::max(f.blockMax[2], 1e-12));
+                } else {
+                    base = render::depthRamp(std::clamp((double(d) - f.depthMin) / range, 0.0, 1.0));
+                }
+                Rgb c = render::scale(base, 0.28 + 0.55 * ndl + 0.32 * head);
                 c = render::mix(c, render::colours::kWhite, 0.22 * spec);
                 // Outline where a neighbour is empty or much farther away.
                 bool edge = false;
@@ -333,9 +341,14 @@ Image renderView(const Cave& cave, render::View view, int width, const detail::C
     char sub[200];
     std::snprintf(sub, sizeof sub, "%d x %d x %d voxels of %s m; %ld cave voxels, smooth surface", cave.dims().nx,
                   cave.dims().ny, cave.dims().nz, render::formatMetres(cave.voxelSize).c_str(), caveVoxels);
-    render::drawTitle(img, f, viewTitle(view), sub);
+    render::drawTitle(
+        img, f, cave.dims().ny == 1 && view == render::View::kSideXZ ? "Cave, the 2D section x-z" : viewTitle(view),
+        sub);
     render::drawStandardLegend(img, f);
-    render::drawColourBar(img, f, 1, render::depthRamp, f.depthMin, f.depthMax, false, depthLabel(view));
+    if (f.camera.perspective)
+        render::drawColourBar(img, f, 1, render::viridis, 0.0, f.blockMax[2], false, "elevation above block base (m)");
+    else
+        render::drawColourBar(img, f, 1, render::depthRamp, f.depthMin, f.depthMax, false, depthLabel(view));
     if (!ls.grid) render::drawNote(img, f, "no cave");
     return img;
 }
@@ -358,12 +371,19 @@ void checkWidth(int width) {
     CAVESIM_CHECK(width >= 64 && width <= 16384, "picture width must be in [64, 16384], got " + std::to_string(width));
 }
 
-void writeViews(const std::array<render::Image, 4>& images, const std::string& imagesDir) {
+// A 2D section (one voxel thick in y) is shown only as itself: the x–z view. Its plan is a line,
+// and the y–z and perspective views show the slab's edge.
+bool viewApplies(const Cave& cave, render::View view) {
+    return cave.dims().ny != 1 || view == render::View::kSideXZ;
+}
+
+void writeViews(const Cave& cave, const std::array<render::Image, 4>& images, const std::string& imagesDir) {
     std::error_code ec;
     std::filesystem::create_directories(imagesDir, ec);
     if (ec) throw RuntimeError("cannot create " + imagesDir + ": " + ec.message());
     // PNG compression is the costly part of writing: the four files in parallel.
     tbb::parallel_for(std::size_t(0), kCaveViews.size(), [&](std::size_t v) {
+        if (!viewApplies(cave, kCaveViews[v])) return;
         render::writePng((std::filesystem::path(imagesDir) / (render::viewStem(kCaveViews[v]) + ".png")).string(),
                          images[v]);
     });
@@ -378,7 +398,7 @@ std::array<render::Image, 4> renderCaveViews(const Cave& cave, int width, const 
 }
 
 void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width) {
-    writeViews(renderCaveViews(cave, width), imagesDir);
+    writeViews(cave, renderCaveViews(cave, width), imagesDir);
 }
 
 MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, const std::string& imagesDir, int width,
@@ -389,7 +409,7 @@ MeshStats writeCaveMeshAndPictures(const Cave& cave, const std::string& dir, con
     const detail::CaveSurface surface = detail::buildCaveSurface(cave.mask, cave.voxelSize, options, true);
     MeshStats stats = detail::writeMeshOutputs(surface.mesh, cave.mask, cave.voxelSize, dir, options);
     if (built) *built = toSurfaceMesh(surface.mesh);
-    writeViews(renderViews(cave, width, surface.levelSet), imagesDir);
+    writeViews(cave, renderViews(cave, width, surface.levelSet), imagesDir);
     stats.seconds = watch.seconds();
     return stats;
 }

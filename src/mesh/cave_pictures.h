@@ -4,10 +4,10 @@
 /// The cave's smooth surface (the level set of cave_mesh.h, at the mesh's iso value) is
 /// ray-traced with OpenVDB's `LevelSetRayIntersector`, one ray per pixel through the cameras of
 /// render/view.h, so these pictures line up with the 2D figures of the voxel state drawn at the
-/// same width. Shading: colour by depth along the view (warm = near, slate = far, with a colour
-/// bar), diffuse and head lights, dark outlines where the depth jumps. Overlays: the rock block's
-/// outline (hidden edges dashed in perspective), axes in metres, a scale bar, sources (red, S1…)
-/// and sinks (blue). No OpenVDB type appears in this header.
+/// same width. Shading: the perspective is coloured by elevation (viridis, block base to top), the
+/// plan and sides by depth along the view (warm = near, slate = far), each with a colour bar; diffuse and head lights,
+/// dark outlines where the depth jumps. Overlays: the rock block's outline (hidden edges dashed in perspective), axes
+/// in metres, a scale bar, sources (red, S1…) and sinks (blue). No OpenVDB type appears in this header.
 #pragma once
 
 #include <array>
@@ -31,7 +31,8 @@ inline constexpr std::array<render::View, 4> kCaveViews{render::View::kPerspecti
 std::array<render::Image, 4> renderCaveViews(const Cave& cave, int width, const MeshOptions& options = {});
 
 /// Writes imagesDir/perspective.png, plan.png, side_xz.png and side_yz.png (creating imagesDir),
-/// each through a temporary name and a rename.
+/// each through a temporary name and a rename; for a 2D section (one voxel thick in y) only
+/// side_xz.png, the section itself.
 /// @throw InternalError on a bad width; RuntimeError when a file cannot be written
 void writeCavePictures(const Cave& cave, const std::string& imagesDir, int width);
 

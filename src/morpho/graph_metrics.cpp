@@ -219,6 +219,23 @@ std::optional<double> orientationEntropy(const Skeleton& s, const std::vector<st
     return entropy(bins, total, 18.0);
 }
 
+std::optional<double> axisShareOf(const Skeleton& s, const std::vector<std::array<int, 2>>& edges, double tol) {
+    double aligned = 0.0, total = 0.0;
+    for (const auto& e : edges) {
+        const auto& a = s.nodes[std::size_t(e[0])].position;
+        const auto& b = s.nodes[std::size_t(e[1])].position;
+        const double dx = std::abs(b[0] - a[0]), dy = std::abs(b[1] - a[1]);
+        const double horizontal = std::hypot(dx, dy);
+        if (horizontal == 0.0) continue;
+        // Angle to the nearer of the two axes, in [0°, 45°].
+        const double off = std::atan2(std::min(dx, dy), std::max(dx, dy)) * (180.0 / kPi);
+        if (off <= tol + 1e-9) aligned += horizontal;
+        total += horizontal;
+    }
+    if (!(total > 0.0)) return std::nullopt;
+    return aligned / total;
+}
+
 /// What one breadth-first search per source gives on an unweighted graph (Brandes 2001).
 struct AllPairs {
     std::vector<long long>
@@ -378,6 +395,7 @@ GraphMetrics metricsOf(const Skeleton& s) {
         if (tcount > 0) m.tortuosity = tsum / double(tcount);
     }
     m.h_or = orientationEntropy(s, edges);
+    m.axis_aligned_share = axisShareOf(s, edges, 5.0);
 
     // Topology of the reduced graph.
     const ReducedGraph g = reduce(n, adj, branches);
@@ -486,6 +504,13 @@ GraphMetrics computeGraphMetrics(const Skeleton& skeleton) {
     return metricsOf(skeleton);
 }
 
+std::optional<double> axisAlignedShare(const Skeleton& skeleton, double toleranceDeg) {
+    validateSkeleton(skeleton);
+    CAVESIM_CHECK(toleranceDeg >= 0.0 && toleranceDeg <= 45.0,
+                  "axisAlignedShare: tolerance must lie in [0, 45] degrees, got " + std::to_string(toleranceDeg));
+    return axisShareOf(skeleton, skeleton.edges, toleranceDeg);
+}
+
 nlohmann::json toJson(const GraphMetrics& m) {
     nlohmann::json j = nlohmann::json::object();
     auto put = [&j](const char* key, const std::optional<double>& v) {
@@ -496,6 +521,7 @@ nlohmann::json toJson(const GraphMetrics& m) {
     put("spl", m.spl);
     put("cpd", m.cpd);
     put("h_or", m.h_or);
+    put("axis_aligned_share", m.axis_aligned_share);
     put("len_mean_m", m.len_mean_m);
     put("cv_len", m.cv_len);
     put("h_len", m.h_len);

@@ -8,9 +8,10 @@
 
 namespace cavesim::render {
 
-/// Perceptually uniform dark-blue → green → yellow ramp (viridis-like), t in [0, 1] (clamped).
+/// matplotlib's viridis (its 256-entry table, linear between entries: entry i at t = i/255),
+/// dark blue → green → yellow; t in [0, 1] (clamped, NaN as 0).
 Rgb viridis(double t);
-/// Perceptually ordered black → red → yellow → white ramp (inferno-like), for flow.
+/// matplotlib's inferno (256-entry table as viridis), black → red → yellow → white, for flow.
 Rgb inferno(double t);
 /// Warm-to-cool ramp used for depth cues in 3D views: near = warm sand, far = slate blue.
 Rgb depthRamp(double t);

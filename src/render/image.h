@@ -4,8 +4,8 @@
 /// Pixel coordinates: x to the right, y downward, (0, 0) the top-left pixel. Integer arguments
 /// (rectangles, text) address pixels; real arguments (lines, circles, markers) are continuous:
 /// pixel (x, y) covers [x, x+1) × [y, y+1) and is centred at (x + 0.5, y + 0.5). Drawing outside
-/// the image is clipped silently. Text uses a built-in 5×7 bitmap font (ASCII 32–126), scaled by an
-/// integer factor.
+/// the image is clipped silently. Text is DejaVu Sans drawn with Cairo (UTF-8), anti-aliased, at a
+/// size set by an integer scale: a line is 8·scale pixels high, the baseline 7·scale below its top.
 #pragma once
 
 #include <cstdint>
@@ -62,12 +62,12 @@ enum class Marker { kCircle, kSquare, kTriangle, kDiamond };
 /// A filled marker of half-size `radius` px with a 1-px outline of colour `outline`.
 void drawMarker(Image& img, double cx, double cy, double radius, Marker m, Rgb fill, Rgb outline);
 
-/// Width in pixels of `text` at integer `scale` (glyph cell 6×8 px at scale 1).
+/// Width in pixels of `text` (UTF-8) at integer `scale` (its advance, rounded up).
 int textWidth(const std::string& text, int scale = 1);
 /// Height in pixels of one line of text at `scale`.
 int textHeight(int scale = 1);
 /// Draws `text` with its top-left corner at (x, y); returns the x just after the text.
-/// Characters outside ASCII 32–126 are drawn as '?'.
+/// Bytes that are not valid UTF-8, and control characters, are drawn as '?'.
 int drawText(Image& img, int x, int y, const std::string& text, Rgb c, int scale = 1);
 /// Horizontal alignment for drawTextAligned.
 enum class Align { kLeft, kCentre, kRight };

@@ -1,9 +1,9 @@
 /// @file domain.h
 /// @brief The simulation state: dense voxel grids built from a scenario.
 ///
-/// Dense arrays (see core/grid.h) rather than OpenVDB trees: the stages touch every voxel of a
-/// block that is mostly rock, so sparse storage buys nothing and costs indirection in hot loops.
-/// OpenVDB is used only at the edges (state.vdb output, meshing).
+/// Dense arrays (see core/grid.h, 25 bytes a voxel) rather than OpenVDB trees; stage 2 keeps its
+/// per-iteration state on active 8³ tiles only (sim/stage2_steps.h). OpenVDB is used only at the
+/// edges (state.vdb output, meshing).
 #pragma once
 
 #include <cstdint>

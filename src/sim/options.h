@@ -58,6 +58,15 @@ enum class MeshStyle : std::uint8_t {
     kVoxel,   ///< also cave_voxels.obj: the faces between cave and rock voxels
 };
 
+/// An export format of `[output] formats` (formats/exports.h lists the files of each).
+enum class ExportFormat : std::uint8_t { kGlb, kVtk, kStl, kSvx, kTh, kGocad, kCsv, kVdb };
+
+/// Which side the exported mesh's normals face.
+enum class MeshNormals : std::uint8_t {
+    kOutward,  ///< out of the cave, into the rock: the cave seen from outside
+    kInward,   ///< into the cave: for renderers that cull back faces and show the walls from inside
+};
+
 /// Stage 1 (stage1.h): pressure zones, flow networks, protochannels.
 struct Stage1Options {
     bool enabled = true;
@@ -76,7 +85,10 @@ struct Stage1Options {
                                         GridFace::kMinusZ};
     double protosinkShare = 0.5;   ///< total protosink drain / source capacity
     double branchFlow = 0.02;      ///< least fraction of a zone's flow through a protochannel voxel
-    double resistanceNoise = 0.5;  ///< relative random variation of link resistance
+    double resistanceNoise = 0.5;  ///< spread of the log-uniform random factor on link resistance
+    /// voxels: no protochannel within this Chebyshev distance of a sink voxel (the rock stage 1
+    /// leaves between protochannels and sinks)
+    int sinkGap = 2;
 };
 
 /// Stage 2 (stage2.h): pressure front, water transport, blending, erosion.
@@ -106,6 +118,9 @@ struct OutputOptions {
     bool images = true;
     bool mesh = true;
     CaveExtent cave = CaveExtent::kChannels;
+    /// Files for other tools, besides cave.obj/.ply, state.vdb and the skeleton files.
+    std::vector<ExportFormat> formats{ExportFormat::kGlb, ExportFormat::kVtk, ExportFormat::kSvx, ExportFormat::kCsv};
+    MeshNormals meshNormals = MeshNormals::kOutward;  ///< of cave.glb
 };
 
 }  // namespace cavesim

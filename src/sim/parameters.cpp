@@ -273,6 +273,8 @@ std::vector<ParamSection> makeRegistry() {
     using FB = FlowBlending;
     using MS = MeshStyle;
     using CE = CaveExtent;
+    using EF = ExportFormat;
+    using MN = MeshNormals;
     using PK = PlaneKind;
     std::vector<ParamSection> r;
 
@@ -314,7 +316,7 @@ std::vector<ParamSection> makeRegistry() {
         {
             int3("size", &Scenario::size, rng(1, 1024), "`nx, ny, nz`")
                 .unitIs("voxels")
-                .rangeShown("each 1–1024, product ≤ 16 M (stage 2 needs about 300 bytes per voxel)"),
+                .rangeShown("each 1–1024; the run's memory is estimated and checked before it starts"),
             real("voxel_size", &Scenario::voxelSize, rng(1e-3, 1e4), "edge of one voxel; scales every output length")
                 .unitIs("m"),
         }));
@@ -460,10 +462,10 @@ std::vector<ParamSection> makeRegistry() {
                  "porosity shown along protochannels after stage 1 (display erosion, never lowered; reset by the "
                  "interim step)"),
             real("capacity_exponent", &Stage1Options::capacityExponent, rng(0, 8, "(]"),
-                 "flow-network edge capacity = (smaller porosity of the two voxels)^exponent; its resistance is 1 / "
-                 "capacity"),
+                 "flow-network edge capacity = (smaller porosity of the two voxels)^exponent / edge length (1, √2 or "
+                 "√3: the 26 neighbours); its resistance is 1 / capacity"),
             integer("max_graph_voxels", &Stage1Options::maxGraphVoxels, rng(1, 1e9),
-                    "a larger zone is refused with an error before any network is built (a network needs about 450 "
+                    "a larger zone is refused with an error before any network is built (a network needs about 1,700 "
                     "bytes per voxel)")
                 .unitIs("voxels"),
             choiceList("boundary_faces", &Stage1Options::boundaryFaces, faces, "grid faces",
@@ -481,9 +483,16 @@ std::vector<ParamSection> makeRegistry() {
                  "smaller values give more, longer branches reaching closer to the zone boundary; 0 marks every traced "
                  "path"),
             real("resistance_noise", &Stage1Options::resistanceNoise, rng(0, 1),
-                 "random relative variation of link resistance (sub-voxel heterogeneity, from `seed`); it breaks the "
-                 "ties between the equally short staircase paths of the voxel grid, which otherwise run along the grid "
-                 "axes. 0 = none"),
+                 "random variation of link resistance (sub-voxel heterogeneity, from `seed`): a factor e^(2·noise·(2u "
+                 "− 1)), u uniform in [0, 1), so 0.5 gives factors between 1/e and e. Lattice paths in directions "
+                 "between the 26 link directions tie; without enough noise the least-resistance routes gather along "
+                 "the link directions and the protochannels follow the grid. 0 = none"),
+            integer("sink_gap", &Stage1Options::sinkGap, rng(1, 64),
+                    "rock kept between protochannels and sinks: voxels within this distance of a sink voxel (along "
+                    "any of the 26 neighbour directions: the largest of |dx|, |dy|, |dz|) are left out of the flow "
+                    "networks, so stage 2 starts with every source cut off from the sinks; an `aim` point within it is "
+                    "refused")
+                .unitIs("voxels"),
         }));
     s1.prose =
         "Stage 1 divides the block into pressure zones (one per source, by fast marching), solves a flow\n"
@@ -553,6 +562,24 @@ std::vector<ParamSection> makeRegistry() {
                 "which voxels are the cave that is meshed, drawn and measured: the stage-2 channels, or the channels "
                 "and the stage-1 protochannels as 1-voxel side passages (the paper's Figures 10–12 show both kinds; "
                 "`docs/reproduction.md` gives Table 4 both ways). Does not change the simulation"),
+            choiceList("formats", &OutputOptions::formats,
+                       {{"glb", int(EF::kGlb)},
+                        {"vtk", int(EF::kVtk)},
+                        {"stl", int(EF::kStl)},
+                        {"svx", int(EF::kSvx)},
+                        {"th", int(EF::kTh)},
+                        {"gocad", int(EF::kGocad)},
+                        {"csv", int(EF::kCsv)},
+                        {"vdb", int(EF::kVdb)}},
+                       "formats",
+                       "files for other tools (README, \"Output files\"): `glb` cave.glb, `vtk` state.vti and "
+                       "skeleton.vtp, `stl` cave.stl, `svx` cave.svx, `th` cave.th, `gocad` cave.ts and skeleton.pl, "
+                       "`csv` history.csv and branches.csv, `vdb` cave.vdb; `cavesim run --formats` overrides. Mesh "
+                       "formats are skipped when `mesh` is false"),
+            choice("mesh_normals", &OutputOptions::meshNormals,
+                   {{"outward", int(MN::kOutward)}, {"inward", int(MN::kInward)}},
+                   "side the normals of cave.glb face: `inward` shows the walls from inside in renderers that cull "
+                   "back faces (games, walk-throughs); `cavesim run --mesh-normals` overrides"),
         }));
     return r;
 }

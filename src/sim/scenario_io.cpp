@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "sim/default_scenario.h"
 #include "sim/parameters.h"
+#include "sim/scenario_toml.h"
 
 namespace cavesim {
 namespace {
@@ -527,28 +528,8 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
             TableReader cr(*t, child.path, ctx.file);
             readSection(child, *t, cr, child.mutableRecord(ctx.s, 0), ctx);
         }
-        if (&child == findParam(ctx.s, &ctx.s.size).first) {
-            const Scenario& s = ctx.s;
-            const double cells = double(s.size[0]) * s.size[1] * s.size[2];
-            if (cells > 16e6) {  // stage 2 holds about 300 bytes per voxel: 16 M voxels need about 5 GB
-                r.fail(key, table.get(key),
-                       scenarioKey(s, &s.size) + " gives " + std::to_string(long(cells)) +
-                           " voxels; at most 16,000,000 are allowed (stage 2 needs about 300 bytes per voxel)");
-            }
-        }
     }
     r.finish(known);
-}
-
-Scenario parseTable(const toml::table& root, const std::string& file) {
-    Scenario s;
-    s.path = file;
-    TableReader top(root, "", file);
-    ParseContext ctx{s, file};
-    const ParamSection& topSection = scenarioParameters().front();
-    readSection(topSection, root, top, &s, ctx);
-    validateScenario(s);
-    return s;
 }
 
 bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
@@ -562,6 +543,17 @@ std::string where(const Scenario& s, int line) {
 }
 
 }  // namespace
+
+Scenario parseScenarioTable(const toml::table& root, const std::string& sourceName) {
+    Scenario s;
+    s.path = sourceName;
+    TableReader top(root, "", sourceName);
+    ParseContext ctx{s, sourceName};
+    const ParamSection& topSection = scenarioParameters().front();
+    readSection(topSection, root, top, &s, ctx);
+    validateScenario(s);
+    return s;
+}
 
 void validateScenario(const Scenario& s) {
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
@@ -586,6 +578,28 @@ void validateScenario(const Scenario& s) {
             if (s.sinks[j].box.lo[c] < 0 || s.sinks[j].box.hi[c] >= s.size[c])
                 throw InputError(where(s, s.sinks[j].line) + ": " + sink.header() + " " + std::to_string(j + 1) +
                                  " lies outside the domain");
+    // Stage 1 keeps `sink_gap` voxels of rock around every sink; an aim point there would draw the
+    // protochannels onto the sink.
+    if (s.stage1.enabled) {
+        for (std::size_t a = 0; a < s.stage1.aim.size(); ++a)
+            for (std::size_t j = 0; j < s.sinks.size(); ++j) {
+                const Vec3d& p = s.stage1.aim[a];
+                double dist = 0;  // Chebyshev distance from the point to the sink box, voxels
+                for (int c = 0; c < 3; ++c)
+                    dist = std::max({dist, double(s.sinks[j].box.lo[c]) - p[c], p[c] - double(s.sinks[j].box.hi[c])});
+                if (dist > s.stage1.sinkGap) continue;
+                std::ostringstream os;
+                os << s.path << ": key '" << scenarioKey(s, &s.stage1.aim) << "' point " << a + 1 << " = [" << p[0]
+                   << ", " << p[1] << ", " << p[2] << "] lies "
+                   << (dist <= 0 ? std::string("inside") : "within " + std::to_string(s.stage1.sinkGap) + " voxels of")
+                   << " " << sink.header() << " entry " << j + 1 << " (line " << s.sinks[j].line
+                   << "): an aim point must be more than '" << scenarioKey(s, &s.stage1.sinkGap)
+                   << "' = " << s.stage1.sinkGap
+                   << " voxels from every sink (the largest of |dx|, |dy|, |dz| to the sink box), because stage 1 "
+                      "keeps that much rock between protochannels and sinks";
+                throw InputError(os.str());
+            }
+    }
     if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty()) {
         throw InputError(s.path + ": key '" + source.path + "': at least one " + source.header() +
                          " is needed when a stage is enabled");
@@ -620,7 +634,7 @@ Scenario parseScenarioString(std::string_view text, const std::string& sourceNam
         os << sourceName << ":" << e.source().begin.line << ": malformed TOML: " << e.description();
         throw InputError(os.str());
     }
-    return parseTable(root, sourceName);
+    return parseScenarioTable(root, sourceName);
 }
 
 Scenario parseScenarioFile(const std::string& path) {
@@ -730,9 +744,7 @@ void insertValue(toml::table& t, const Param& p, const ParamValue& v) {
 
 }  // namespace
 
-namespace {
-
-std::string tomlText(const Scenario& s) {
+toml::table scenarioTable(const Scenario& s) {
     toml::table root;
     for (const ParamSection& section : scenarioParameters()) {
         if (section.isArray) {
@@ -752,8 +764,14 @@ std::string tomlText(const Scenario& s) {
             for (const Param& p : section.params) insertValue(t, p, p.get(section.record(s, 0)));
         }
     }
+    return root;
+}
+
+namespace {
+
+std::string tomlText(const Scenario& s) {
     std::ostringstream os;
-    os << "# Effective scenario: every key with its value, defaults filled in.\n" << root << "\n";
+    os << "# Effective scenario: every key with its value, defaults filled in.\n" << scenarioTable(s) << "\n";
     return os.str();
 }
 

@@ -4,9 +4,11 @@
 #include "sim/stage1.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -18,8 +20,8 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
-#include "core/timer.h"
 #include "core/memory.h"
+#include "core/timer.h"
 #include "fastmarch/fast_marching.h"
 #include "flownet/flow_network.h"
 #include "flownet/max_flow.h"
@@ -29,23 +31,132 @@
 namespace cavesim {
 namespace {
 
-/// Peak heap bytes per zone voxel of network and solver (measured: about 430 on 6-neighbour zones).
-constexpr double kBytesPerVoxel = 450;
-
-/// What one zone needs and produces in the parallel part.
-struct ZoneWork {
-    std::vector<std::size_t> voxels;      ///< network voxels: the zone without sinks, increasing
-    std::vector<std::size_t> sources;     ///< source voxels in the zone
-    std::vector<std::size_t> protosinks;  ///< increasing
-    std::vector<std::size_t> traced;      ///< result: traced voxels
-    ZoneStats stats;
-};
+/// Peak heap bytes per zone voxel of network and solver (measured: about 1,650 on 26-neighbour zones).
+constexpr double kBytesPerVoxel = 1700;
 
 flownet::GridFaces gridFaces(const std::vector<GridFace>& list) {
     flownet::GridFaces faces{};
     for (const GridFace f : list) faces[std::size_t(f)] = true;
     return faces;
 }
+
+/// A mirror frame: the grid read with x and/or y reversed. Each frame is its own inverse.
+struct Frame {
+    bool flipX = false, flipY = false;
+};
+constexpr std::array<Frame, 4> kFrames{{{false, false}, {true, false}, {false, true}, {true, true}}};
+
+/// Voxel `v` of the grid seen in frame `f` (and back: the map is an involution).
+std::size_t inFrame(const Dims& d, std::size_t v, Frame f) {
+    Index3 p = d.coord(v);
+    if (f.flipX) p.i = d.nx - 1 - p.i;
+    if (f.flipY) p.j = d.ny - 1 - p.j;
+    return d.index(p.i, p.j, p.k);
+}
+
+/// `list` mapped into frame `f`, increasing.
+std::vector<std::size_t> listInFrame(const Dims& d, const std::vector<std::size_t>& list, Frame f) {
+    std::vector<std::size_t> out;
+    out.reserve(list.size());
+    for (std::size_t v : list) out.push_back(inFrame(d, v, f));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+/// Aim points (voxel units) seen in frame `f`.
+std::vector<Vec3d> aimInFrame(const Dims& d, const std::vector<Vec3d>& aim, Frame f) {
+    std::vector<Vec3d> out = aim;
+    for (Vec3d& a : out) {
+        if (f.flipX) a[0] = double(d.nx - 1) - a[0];
+        if (f.flipY) a[1] = double(d.ny - 1) - a[1];
+    }
+    return out;
+}
+
+/// Voxel roles of one zone's network, the input of its flow problem besides porosity and aim.
+enum ZoneRole : std::uint8_t { kOutside = 0, kNetworkVoxel = 1, kSourceVoxel = 2, kCandidateVoxel = 3 };
+
+/// The frame in which a zone's flow problem reads smallest: the voxels in index order of the
+/// frame, compared by (role, porosity bits), then the aim points. A zone and its mirror image
+/// (x, y or both) read the same in their chosen frames, so every index-ordered choice of the
+/// flow network (heap ties, augmenting-path order, cycle cancelling, tracing, cluster centres) is
+/// made the same way for both and their protochannels are mirror images voxel for voxel. Ties
+/// between frames mean the zone reads the same in both: either gives the same result.
+Frame canonicalFrame(const Dims& d, const Grid3<std::uint8_t>& role, const Grid3<float>& porosity,
+                     const std::vector<Vec3d>& aim) {
+    const auto key = [&](std::size_t v) -> std::uint64_t {
+        const std::uint8_t r = role[v];
+        if (r == kOutside) return 0;
+        std::uint32_t bits;
+        std::memcpy(&bits, &porosity[v], sizeof bits);
+        return (std::uint64_t(r) << 32) | bits;
+    };
+    // −1, 0, 1 as frame a reads smaller than, equal to or larger than frame b.
+    const auto compare = [&](Frame a, Frame b) {
+        for (std::size_t v = 0; v < d.count(); ++v) {
+            const std::uint64_t ka = key(inFrame(d, v, a)), kb = key(inFrame(d, v, b));
+            if (ka != kb) return ka < kb ? -1 : 1;
+        }
+        const std::vector<Vec3d> aa = aimInFrame(d, aim, a), ab = aimInFrame(d, aim, b);
+        if (aa != ab) return aa < ab ? -1 : 1;
+        return 0;
+    };
+    Frame best = kFrames[0];
+    for (std::size_t f = 1; f < kFrames.size(); ++f) {
+        if (kFrames[f].flipX && d.nx == 1) continue;
+        if (kFrames[f].flipY && d.ny == 1) continue;
+        if (compare(kFrames[f], best) < 0) best = kFrames[f];
+    }
+    return best;
+}
+
+/// The grid read in frame `f`.
+template <typename T>
+Grid3<T> gridInFrame(const Grid3<T>& g, Frame f) {
+    Grid3<T> out(g.dims);
+    for (std::size_t v = 0; v < g.size(); ++v) out[inFrame(g.dims, v, f)] = g[v];
+    return out;
+}
+
+/// 1 where a voxel lies within Chebyshev distance `gap` of a sink voxel (sinks included):
+/// a box dilation of the sinks, one running count per axis.
+Grid3<std::uint8_t> nearSinks(const Domain& dom, int gap) {
+    const Dims& d = dom.dims;
+    Grid3<std::uint8_t> m(d, 0);
+    for (const auto& sink : dom.sinkVoxels)
+        for (std::size_t v : sink) m[v] = 1;
+    const int extent[3] = {d.nx, d.ny, d.nz};
+    const std::size_t stride[3] = {1, std::size_t(d.nx), std::size_t(d.nx) * std::size_t(d.ny)};
+    std::vector<std::uint8_t> line;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int len = extent[axis];
+        line.resize(std::size_t(len));
+        for (std::size_t start = 0; start < d.count(); ++start) {
+            if ((start / stride[axis]) % std::size_t(len) != 0) continue;  // first voxel of a line only
+            for (int t = 0; t < len; ++t) line[std::size_t(t)] = m[start + std::size_t(t) * stride[axis]];
+            int count = 0;  // marked voxels in the window [t − gap, t + gap]
+            for (int t = 0; t < std::min(gap, len); ++t) count += line[std::size_t(t)];
+            for (int t = 0; t < len; ++t) {
+                if (t + gap < len) count += line[std::size_t(t + gap)];
+                if (t - gap - 1 >= 0) count -= line[std::size_t(t - gap - 1)];
+                m[start + std::size_t(t) * stride[axis]] = count > 0;
+            }
+        }
+    }
+    return m;
+}
+
+/// What one zone needs and produces in the parallel part.
+struct ZoneWork {
+    /// Network voxels: the zone without the sinks and the voxels within `sinkGap` of them (but
+    /// with its sources), increasing; in `frame` from step 2 on.
+    std::vector<std::size_t> voxels;
+    std::vector<std::size_t> sources;     ///< source voxels in the zone, increasing, in `frame`
+    std::vector<std::size_t> protosinks;  ///< increasing, in `frame`
+    Frame frame;                          ///< the zone's canonical mirror frame
+    std::vector<std::size_t> traced;      ///< result: traced voxels, in `frame`
+    ZoneStats stats;
+};
 
 std::string withThousands(long v) {
     std::string s = std::to_string(v);
@@ -68,9 +179,11 @@ Grid3<std::int32_t> pressureZones(const Domain& domain, ZoneSpeed speed) {
     Grid3<float> slowness;
     const Grid3<float>* slow = nullptr;
     if (speed == ZoneSpeed::kPorosity) {
-        double sum = 0;
-        for (float r : domain.porosity.data) sum += r;
-        const double mean = sum / double(domain.porosity.size());
+        // Summed as integers (each R rounded to 2^-40), so the mean does not depend on the order
+        // of the voxels: a mirrored block gets the same bits.
+        __int128 sum = 0;
+        for (float r : domain.porosity.data) sum += __int128(std::llround(std::ldexp(double(r), 40)));
+        const double mean = std::ldexp(double(sum), -40) / double(domain.porosity.size());
         if (mean > 0) {
             slowness = Grid3<float>(d, 1.f);
             for (std::size_t v = 0; v < slowness.size(); ++v) {
@@ -106,12 +219,16 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     result.zoneSeconds = t0.seconds();
     reportProgress(progress, "stage 1: pressure zones", 1, 1);
 
+    // Sinks and the rock within `sinkGap` of them stay out of the networks: no protochannel comes
+    // nearer to a sink than that, and stage 2 starts with every source cut off from the sinks.
+    const Grid3<std::uint8_t> nearSink = nearSinks(domain, g.sinkGap);
     std::vector<ZoneWork> work(nSources);
     for (std::size_t v = 0; v < domain.zone.size(); ++v) {
         const std::int32_t z = domain.zone[v];
         if (z < 0) continue;
         ++result.zoneVoxels[std::size_t(z)];
-        if (!(domain.flags[v] & kSink)) work[std::size_t(z)].voxels.push_back(v);
+        const bool source = domain.flags[v] & kSource;
+        if (!(domain.flags[v] & kSink) && (!nearSink[v] || source)) work[std::size_t(z)].voxels.push_back(v);
     }
     for (std::size_t z = 0; z < nSources; ++z) {
         if (result.zoneVoxels[z] > 0) ++result.zones;
@@ -129,34 +246,53 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     {
         std::vector<long> sizes(result.zoneVoxels.begin(), result.zoneVoxels.end());
         std::sort(sizes.begin(), sizes.end(), std::greater<>());
-        const std::size_t atOnce = std::min<std::size_t>(sizes.size(), std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
+        const std::size_t atOnce =
+            std::min<std::size_t>(sizes.size(), std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
         double need = 0;
         for (std::size_t k = 0; k < atOnce; ++k) need += double(sizes[k]) * kBytesPerVoxel;
         const double limit = memoryLimitBytes();
         if (limit > 0 && need > 0.8 * limit)
-            throw Stage1LimitError("stage 1 would need about " + withThousands(long(need / 1e6)) +
-                             " MB for the flow networks of its " + std::to_string(atOnce) +
-                             " largest pressure zone(s) solved at once, more than 80 % of the " +
-                             withThousands(long(limit / 1e6)) +
-                             " MB this process may use; make the domain smaller, add sources to split it into "
-                             "smaller zones, or run with fewer threads (--threads)",
-                                   -1);
+            throw Stage1LimitError(
+                "stage 1 would need about " + withThousands(long(need / 1e6)) + " MB for the flow networks of its " +
+                    std::to_string(atOnce) + " largest pressure zone(s) solved at once, more than 80 % of the " +
+                    withThousands(long(limit / 1e6)) +
+                    " MB this process may use; make the domain smaller, add sources to split it into "
+                    "smaller zones, or run with fewer threads (--threads)",
+                -1);
     }
 
-    // 2. Sources and protosinks per zone (sequential: the random cluster centres come from rng
-    //    in source order, whatever the thread count).
+    // 2. Sources and protosinks per zone, in the zone's canonical mirror frame (sequential: the
+    //    random cluster centres come from rng in source order, whatever the thread count).
+    Grid3<std::uint8_t> role(d, kOutside);
+    std::array<bool, 4> frameUsed{};
     for (std::size_t z = 0; z < nSources; ++z) {
         ZoneWork& w = work[z];
         w.stats.source = int(z);
         w.stats.voxels = result.zoneVoxels[z];
         for (std::size_t v : domain.sourceVoxels[z])
             if (domain.zone[v] == std::int32_t(z)) w.sources.push_back(v);
+        std::sort(w.sources.begin(), w.sources.end());
+        w.sources.erase(std::unique(w.sources.begin(), w.sources.end()), w.sources.end());
         // Overlapping source boxes: a voxel of source z may belong to a lower-numbered zone.
         std::vector<std::size_t> candidates;
         for (std::size_t v : flownet::zoneBoundary(domain.zone, w.voxels, int(z), faces))
             if (!(domain.flags[v] & kSource)) candidates.push_back(v);
+
+        for (std::size_t v : w.voxels) role[v] = kNetworkVoxel;
+        for (std::size_t v : w.sources) role[v] = kSourceVoxel;
+        for (std::size_t v : candidates) role[v] = kCandidateVoxel;
+        const std::vector<Vec3d> noAim;
+        w.frame = canonicalFrame(d, role, domain.porosity, g.protosinks == ProtosinkMode::kClustered ? g.aim : noAim);
+        for (std::size_t v : w.voxels) role[v] = kOutside;
+        for (std::size_t f = 0; f < kFrames.size(); ++f)
+            if (kFrames[f].flipX == w.frame.flipX && kFrames[f].flipY == w.frame.flipY) frameUsed[f] = true;
+        w.voxels = listInFrame(d, w.voxels, w.frame);
+        w.sources = listInFrame(d, w.sources, w.frame);
+        candidates = listInFrame(d, candidates, w.frame);
+
         if (g.protosinks == ProtosinkMode::kClustered) {
-            const auto centres = flownet::chooseClusterCentres(d, candidates, g.clusters, g.aim, rng);
+            const auto centres =
+                flownet::chooseClusterCentres(d, candidates, g.clusters, aimInFrame(d, g.aim, w.frame), rng);
             w.protosinks = flownet::clusterProtosinks(d, candidates, centres, g.clusterRadius);
             // The rest of the boundary is left out of the network: channels stay off the zone's edge.
             std::vector<std::size_t> drop;
@@ -169,9 +305,16 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
         } else {
             w.protosinks = std::move(candidates);
         }
-        std::sort(w.sources.begin(), w.sources.end());
         w.stats.protosinks = long(w.protosinks.size());
     }
+    // Porosity as each frame in use reads it.
+    std::array<Grid3<float>, 4> framePorosity;
+    for (std::size_t f = 1; f < kFrames.size(); ++f)
+        if (frameUsed[f]) framePorosity[f] = gridInFrame(domain.porosity, kFrames[f]);
+    const auto porosityIn = [&](Frame fr) -> const Grid3<float>& {
+        const std::size_t f = std::size_t(fr.flipX) + 2 * std::size_t(fr.flipY);
+        return f == 0 ? domain.porosity : framePorosity[f];
+    };
 
     // 3. Networks, max flow and tracing, zone by zone in parallel.
     flownet::FlowNetworkOptions netOptions;
@@ -191,7 +334,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
             ZoneWork& w = work[z];
             if (!w.voxels.empty() && !w.sources.empty()) {
                 const flownet::FlowNetwork net =
-                    flownet::buildFlowNetwork(domain.porosity, w.voxels, w.sources, w.protosinks, netOptions);
+                    flownet::buildFlowNetwork(porosityIn(w.frame), w.voxels, w.sources, w.protosinks, netOptions);
                 flownet::MaxFlowResult flow = flownet::leastResistanceMaxFlow(net);
                 w.stats.cyclesCancelled = long(flownet::cancelFlowCycles(net, flow));
                 const flownet::ProtochannelTree tree = flownet::traceProtochannels(net, flow, traceOptions);
@@ -215,7 +358,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
 
     // 4. Write back in source order.
     for (std::size_t z = 0; z < nSources; ++z) {
-        for (std::size_t v : work[z].traced) domain.flags[v] |= kProtochannel;
+        for (std::size_t v : work[z].traced) domain.flags[inFrame(d, v, work[z].frame)] |= kProtochannel;
         result.protochannelVoxels += long(work[z].traced.size());
         result.perZone[z] = work[z].stats;
     }

@@ -10,9 +10,11 @@
 ///     weighted Voronoi division: equal pressures split on the bisector, 2 : 1 on an Apollonius
 ///     sphere (paper Figure 5).
 ///  2. **Flow network per zone** (src/flownet/flow_network.h): the zone's voxels except sinks
-///     (inactive in stage 1) are nodes; face-neighbour pairs are edges of capacity
-///     min(R_a, R_b)^capacityExponent and resistance 1/capacity × (1 + resistanceNoise · u),
-///     u a seeded hash of the pair. The super-source feeds the source voxels without limit.
+///     (inactive in stage 1) and the voxels within `sinkGap` of a sink (Chebyshev distance: the
+///     rock kept between protochannels and sinks; source voxels stay) are nodes; pairs of the 26
+///     neighbours, L = 1, √2 or √3 apart, are edges of capacity min(R_a, R_b)^capacityExponent / L
+///     and resistance 1/capacity × e^(2·resistanceNoise·(2u − 1)), u a seeded hash of the pair.
+///     The super-source feeds the source voxels without limit.
 ///     **Protosinks** drain to the super-sink: with `protosinks = "boundary"` every voxel of the
 ///     zone's boundary — voxels with a face neighbour in another zone, and voxels on the grid
 ///     faces listed in `boundaryFaces` (default all but the top) — with `"clustered"` only the
@@ -25,12 +27,21 @@
 ///     primal–dual phases of Dijkstra + Boost.Graph's Boykov–Kolmogorov max flow; flow cycles
 ///     are then cancelled. The file comment there says why a plain max flow is not enough.
 ///  4. **Protochannels** (src/flownet/protochannels.h): from the protosinks that receive flow,
-///     strongest first, walk upstream along the in-arc of largest flow until a source voxel or
+///     strongest first, walk upstream along the flow's direction until a source voxel or
 ///     the tree is reached or touched; only voxels carrying at least `branchFlow` of the zone's
 ///     flow are marked. The result is a tree of 1-voxel channels rooted at the source that
 ///     branches outward. Traced voxels get the kProtochannel flag and porosity
 ///     max(R, protochannel_porosity) (the paper's display erosion; porosity0 keeps the initial
 ///     rock and the interim step resets it).
+///
+/// **Mirror frames.** Steps 2–4 make index-ordered choices where values tie (heap order, the
+/// order of augmenting paths, cycle cancelling, tracing, the cluster nearest an aim point, the
+/// resistance noise hashed from voxel indices). Each zone therefore solves its problem in a
+/// canonical frame: the grid read with x and/or y reversed, whichever of the four readings of
+/// the zone (network voxels, sources, boundary, porosity bits, aim points) is smallest. A
+/// scenario mirrored in x, y or both reads the same in its frame, so its protochannels are the
+/// mirror image voxel for voxel (test `Stage1.MirroredScenariosGiveMirroredProtochannelsAndCaves`).
+/// A zone that is itself mirror-symmetric may still get an asymmetric tree.
 ///
 /// Zones are solved in parallel (TBB), each independently, and merged in source order, so the
 /// result is the same for any thread count. The random draws (cluster centres, then one seed for
@@ -40,8 +51,8 @@
 
 #include <vector>
 
-#include "core/progress.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "sim/domain.h"
 #include "sim/options.h"
 

@@ -28,7 +28,6 @@ constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
 /// conserved exactly (the film is stored, and counted).
 constexpr double kMinFlowingWater = 1e-9;
 
-
 std::array<Slot, 26> makeSlots() {
     std::array<Slot, 26> slot{};
     int c = 0;
@@ -40,50 +39,164 @@ std::array<Slot, 26> makeSlots() {
             }
     for (auto& a : slot)
         for (int b = 0; b < 26; ++b)
-            if (slot[std::size_t(b)].di == -a.di && slot[std::size_t(b)].dj == -a.dj && slot[std::size_t(b)].dk == -a.dk)
+            if (slot[std::size_t(b)].di == -a.di && slot[std::size_t(b)].dj == -a.dj &&
+                slot[std::size_t(b)].dk == -a.dk)
                 a.opposite = b;
     return slot;
 }
 
-/// One row (j, k) of the grid with the linear index of the start of each of its 9 neighbour rows
-/// (j + dj, k + dk) in paired-group order, or −1 where that row lies outside the grid.
-struct Row {
-    int nx = 0;
-    std::size_t index = 0;               ///< row number j + ny·k
-    std::size_t first = 0;               ///< linear index of voxel (0, j, k)
-    std::array<std::ptrdiff_t, 9> base{};
-    Row(const Dims& d, int j, int k) : nx(d.nx), index(std::size_t(j) + std::size_t(d.ny) * std::size_t(k)) {
-        first = d.index(0, j, k);
-        int g = 0;
-        for (int dk = -1; dk <= 1; ++dk)
-            for (int dj = -1; dj <= 1; ++dj, ++g) {
-                const int jj = j + dj, kk = k + dk;
-                base[std::size_t(g)] =
-                    (jj >= 0 && kk >= 0 && jj < d.ny && kk < d.nz) ? std::ptrdiff_t(d.index(0, jj, kk)) : -1;
-            }
-    }
-    /// True when `flag` is set for this row or any of its 8 neighbour rows.
-    bool anyAround(const std::vector<std::uint8_t>& flag) const {
-        for (std::ptrdiff_t b : base)
-            if (b >= 0 && flag[std::size_t(b) / std::size_t(nx)]) return true;
-        return false;
-    }
+/// One active tile, as the loops over it see it.
+struct TileCtx {
+    std::size_t slot = 0;
+    int i0 = 0, j0 = 0, k0 = 0;  ///< first voxel
+    int ni = 0, nj = 0, nk = 0;  ///< extent inside the grid (≤ 8)
+    std::size_t base = 0;        ///< pool index of local voxel 0
+    const std::array<std::int64_t, 27>* nb = nullptr;
 };
 
-/// Σ over the 26 neighbours of voxel i of `row` inside the grid of term(slot, neighbourIndex), in
-/// paired order. Out-of-grid neighbours contribute nothing.
+TileCtx tileCtx(const Stage2State& st, std::size_t slot) {
+    const std::uint32_t t = st.activeTiles[slot];
+    TileCtx c;
+    c.slot = slot;
+    const int ti = int(t % std::uint32_t(st.tilesX));
+    const int tj = int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY));
+    const int tk = int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)));
+    c.i0 = ti * kTileSize;
+    c.j0 = tj * kTileSize;
+    c.k0 = tk * kTileSize;
+    c.ni = std::min(kTileSize, st.dims.nx - c.i0);
+    c.nj = std::min(kTileSize, st.dims.ny - c.j0);
+    c.nk = std::min(kTileSize, st.dims.nz - c.k0);
+    c.base = slot * kTileVoxels;
+    c.nb = &st.neighbourBase[slot];
+    return c;
+}
+
+/// Pool index of the voxel at tile-local (a, b, e), each in [−1, 8] (a neighbour of a local
+/// voxel), or −1 when its tile is inactive.
+inline std::int64_t nbPool(const TileCtx& c, int a, int b, int e) {
+    const std::int64_t base = (*c.nb)[std::size_t(((a >> 3) + 1) + 3 * ((b >> 3) + 1) + 9 * ((e >> 3) + 1))];
+    return base < 0 ? -1 : base + (a & 7) + 8 * ((b & 7) + 8 * (e & 7));
+}
+
+/// Calls body(ctx) for every active tile, tiles in parallel. Each call may write only the voxels
+/// of its own tile, so the result does not depend on scheduling.
+template <typename Body>
+void forEachTile(const Stage2State& st, Body&& body) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, st.activeTiles.size()),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t s = r.begin(); s != r.end(); ++s) body(tileCtx(st, s));
+                      });
+}
+
+/// Calls fn(v, pool, li, lj, lk) for every voxel of a tile.
+template <typename Fn>
+inline void forEachVoxel(const Dims& d, const TileCtx& c, Fn&& fn) {
+    for (int lk = 0; lk < c.nk; ++lk)
+        for (int lj = 0; lj < c.nj; ++lj) {
+            const std::size_t row = d.index(c.i0, c.j0 + lj, c.k0 + lk);
+            const std::size_t prow = c.base + std::size_t(8 * (lj + 8 * lk));
+            for (int li = 0; li < c.ni; ++li) fn(row + std::size_t(li), prow + std::size_t(li), li, lj, lk);
+        }
+}
+
+/// Calls fn(v, pool, li, lj, lk) for the voxels of a tile whose bit is set in `mask`.
+template <typename Fn>
+inline void forEachMasked(const Dims& d, const TileCtx& c, const TileMask& mask, Fn&& fn) {
+    for (int r = 0; r < 64; ++r) {
+        unsigned bits = mask[std::size_t(r)];
+        if (!bits) continue;
+        const int lj = r & 7, lk = r >> 3;
+        const std::size_t row = d.index(c.i0, c.j0 + lj, c.k0 + lk);
+        const std::size_t prow = c.base + std::size_t(r * 8);
+        while (bits) {
+            const int li = __builtin_ctz(bits);
+            bits &= bits - 1;
+            fn(row + std::size_t(li), prow + std::size_t(li), li, lj, lk);
+        }
+    }
+}
+
+inline bool anyBit(const TileMask& m) {
+    for (std::uint8_t b : m)
+        if (b) return true;
+    return false;
+}
+
+/// Calls fn(v, pool) for every voxel of the active tiles (with `onlyNearSenders`, of the tiles
+/// near a sender this iteration) in increasing voxel index, one thread:
+/// sums taken this way equal the sums over the whole grid in voxel order bit for bit (the voxels
+/// left out contribute exact zeros).
+template <typename Fn>
+void forEachActiveInVoxelOrder(const Stage2State& st, bool onlyNearSenders, Fn&& fn) {
+    const Dims& d = st.dims;
+    const std::vector<std::uint32_t>& order = st.slotsInOrder;
+    const std::uint32_t perRow = std::uint32_t(st.tilesX), perLayer = perRow * std::uint32_t(st.tilesY);
+    std::size_t a = 0;
+    while (a < order.size()) {
+        // The active tiles of one tile layer tk (sorted: by tile row tj, then ti); voxel order
+        // visits each z-slice of the layer row by row.
+        const std::uint32_t layer = st.activeTiles[order[a]] / perLayer;
+        std::size_t b = a;
+        while (b < order.size() && st.activeTiles[order[b]] / perLayer == layer) ++b;
+        const TileCtx first = tileCtx(st, order[a]);
+        for (int lk = 0; lk < first.nk; ++lk) {
+            std::size_t x = a;
+            while (x < b) {
+                const std::uint32_t row = st.activeTiles[order[x]] / perRow;
+                std::size_t y = x;
+                while (y < b && st.activeTiles[order[y]] / perRow == row) ++y;
+                const int nj = tileCtx(st, order[x]).nj;
+                for (int lj = 0; lj < nj; ++lj)
+                    for (std::size_t z = x; z < y; ++z) {
+                        if (onlyNearSenders && !st.nearSender[order[z]]) continue;  // exact zeros there
+                        const TileCtx c = tileCtx(st, order[z]);
+                        const std::size_t at = d.index(c.i0, c.j0 + lj, c.k0 + lk);
+                        const std::size_t prow = c.base + std::size_t(8 * (lj + 8 * lk));
+                        for (int li = 0; li < c.ni; ++li) fn(at + std::size_t(li), prow + std::size_t(li));
+                    }
+                x = y;
+            }
+        }
+        a = b;
+    }
+}
+
+/// Σ over the 26 neighbours u of the voxel at tile-local (li, lj, lk) (linear index v) inside the
+/// grid of term(slot, u, poolOf(u)), in paired order (−x, +x, then x = 0 per (dj, dk) group).
+/// Out-of-grid neighbours contribute nothing.
 template <typename Term>
-inline double pairedSum(const Row& row, int i, Term&& term) {
+inline double pairedSum(const Dims& d, const TileCtx& c, int li, int lj, int lk, std::size_t v, Term&& term) {
+    const int i = c.i0 + li, j = c.j0 + lj, k = c.k0 + lk;
+    const std::ptrdiff_t sy = d.nx, sz = std::ptrdiff_t(d.nx) * d.ny;
     double total = 0;
     int s = 0;
-    for (int g = 0; g < 9; ++g) {
-        const std::ptrdiff_t b = row.base[std::size_t(g)];
-        if (b >= 0) {
-            const std::size_t at = std::size_t(b + i);
-            const double lo = i > 0 ? term(s, at - 1) : 0.0;
-            const double hi = i + 1 < row.nx ? term(s + 1, at + 1) : 0.0;
+    if (li > 0 && lj > 0 && lk > 0 && li + 1 < c.ni && lj + 1 < c.nj && lk + 1 < c.nk) {
+        // Inside the tile and the grid: every neighbour is in this tile, at fixed offsets. The
+        // same terms in the same order as below.
+        const std::int64_t p = std::int64_t(c.base) + li + 8 * (lj + 8 * lk);
+        for (int g = 0; g < 9; ++g) {
+            const int dj = g % 3 - 1, dk = g / 3 - 1;
+            const std::size_t at = std::size_t(std::ptrdiff_t(v) + dj * sy + dk * sz);
+            const std::int64_t q = p + 8 * dj + 64 * dk;
+            const double lo = term(s, at - 1, q - 1);
+            const double hi = term(s + 1, at + 1, q + 1);
             double sum = lo + hi;
-            if (g != 4) sum += term(s + 2, at);  // the centre group (dj, dk) = (0, 0) has no x = 0 entry
+            if (g != 4) sum += term(s + 2, at, q);
+            total += sum;
+            s += g == 4 ? 2 : 3;
+        }
+        return total;
+    }
+    for (int g = 0; g < 9; ++g) {
+        const int dj = g % 3 - 1, dk = g / 3 - 1;
+        const int jj = j + dj, kk = k + dk;
+        if (jj >= 0 && kk >= 0 && jj < d.ny && kk < d.nz) {
+            const std::size_t at = std::size_t(std::ptrdiff_t(v) + dj * sy + dk * sz);
+            const double lo = i > 0 ? term(s, at - 1, nbPool(c, li - 1, lj + dj, lk + dk)) : 0.0;
+            const double hi = i + 1 < d.nx ? term(s + 1, at + 1, nbPool(c, li + 1, lj + dj, lk + dk)) : 0.0;
+            double sum = lo + hi;
+            if (g != 4) sum += term(s + 2, at, nbPool(c, li, lj + dj, lk + dk));  // the centre group has no x = 0 entry
             total += sum;
         }
         s += g == 4 ? 2 : 3;
@@ -105,13 +218,12 @@ inline double pairedSlotSum(const std::array<double, 26>& x) {
     return total;
 }
 
-/// Calls body(row) for every row (j, k) of the grid, rows in parallel. Each call may write only
-/// the voxels of its own row (and per-row flags), so the result does not depend on scheduling.
-template <typename Body>
-void forEachRow(const Dims& d, Body&& body) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, d.nz * d.ny), [&](const tbb::blocked_range<int>& r) {
-        for (int rowIndex = r.begin(); rowIndex != r.end(); ++rowIndex) body(Row(d, rowIndex % d.ny, rowIndex / d.ny));
-    });
+/// Listing 1's offer from a sender (pressure pv, norm nv > 0, scale sc) to a neighbour (pressure
+/// pu, free capacity fr) at 1/distance invLength: exactly the arithmetic of the sender-side share.
+inline double offerValue(double pv, double nv, double sc, double pu, double fr, double invLength, bool proportional) {
+    if (!(pu < pv) || !(fr > 0)) return 0.0;
+    const double num = proportional ? (pv - pu) * invLength : 1.0;
+    return (num != 0 ? (num / nv) * fr : 0.0) * sc;
 }
 
 std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
@@ -121,17 +233,11 @@ std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
     return seeds;
 }
 
-/// Sources joined to a sink through channel voxels (26-connected through kChannel | kSource | kSink).
-std::vector<bool> connectedSourcesImpl(const Domain& dom) {
+/// Breadth-first search through conducting voxels (kChannel | kSource | kSink) from `queue`,
+/// marking `seen`.
+template <typename Seen>
+void conductingSearch(const Domain& dom, std::deque<std::size_t>& queue, Seen&& seen) {
     const Dims& d = dom.dims;
-    std::vector<std::uint8_t> seen(d.count(), 0);
-    std::deque<std::size_t> queue;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink)
-            if (!seen[v]) {
-                seen[v] = 1;
-                queue.push_back(v);
-            }
     const auto& nb = allNeighbours();
     while (!queue.empty()) {
         const std::size_t v = queue.front();
@@ -141,11 +247,14 @@ std::vector<bool> connectedSourcesImpl(const Domain& dom) {
             const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
             if (!d.contains(i, j, k)) continue;
             const std::size_t w = d.index(i, j, k);
-            if (seen[w] || !(dom.flags[w] & (kChannel | kSource | kSink))) continue;
-            seen[w] = 1;
+            if (seen(w) || !(dom.flags[w] & (kChannel | kSource | kSink))) continue;
+            seen(w) = true;
             queue.push_back(w);
         }
     }
+}
+
+std::vector<bool> sourcesIn(const Domain& dom, const std::vector<bool>& seen) {
     std::vector<bool> out;
     for (const auto& src : dom.sourceVoxels) {
         bool c = false;
@@ -153,6 +262,20 @@ std::vector<bool> connectedSourcesImpl(const Domain& dom) {
         out.push_back(c);
     }
     return out;
+}
+
+/// Sources joined to a sink through channel voxels (26-connected through kChannel | kSource | kSink).
+std::vector<bool> connectedSourcesImpl(const Domain& dom) {
+    std::vector<bool> seen(dom.dims.count(), false);
+    std::deque<std::size_t> queue;
+    for (const auto& sink : dom.sinkVoxels)
+        for (std::size_t v : sink)
+            if (!seen[v]) {
+                seen[v] = true;
+                queue.push_back(v);
+            }
+    conductingSearch(dom, queue, [&](std::size_t w) { return seen[w]; });
+    return sourcesIn(dom, seen);
 }
 
 }  // namespace
@@ -163,17 +286,137 @@ const std::array<Slot, 26>& slots() {
 }
 
 Stage2State::Stage2State(const Dims& d)
-    : water(d.count(), 0.0),
-      incoming(d.count(), 0.0),
-      accept(d.count(), 0.0),
-      fc(d.count(), 0.0),
-      fa(d.count(), 0.0),
-      upShare(d.count(), 0.0),
-      offerStore(26 * d.count(), 0.0),
-      hadOffers(d.count(), 0),
-      wetRow(std::size_t(d.ny) * std::size_t(d.nz), 0),
-      offerRow(std::size_t(d.ny) * std::size_t(d.nz), 0),
-      flowRow(std::size_t(d.ny) * std::size_t(d.nz), 0) {}
+    : dims(d),
+      tilesX((d.nx + kTileSize - 1) / kTileSize),
+      tilesY((d.ny + kTileSize - 1) / kTileSize),
+      tilesZ((d.nz + kTileSize - 1) / kTileSize),
+      water(d.count(), 0.0),
+      tileSlot(std::size_t(tilesX) * std::size_t(tilesY) * std::size_t(tilesZ), -1),
+      tileWet(tileSlot.size(), 0),
+      reached(d.count(), false) {}
+
+std::ptrdiff_t Stage2State::poolIndex(std::size_t v) const {
+    const Index3 p = dims.coord(v);
+    const std::int32_t s = tileSlot[std::size_t(p.i / kTileSize) +
+                                    std::size_t(tilesX) * (std::size_t(p.j / kTileSize) +
+                                                           std::size_t(tilesY) * std::size_t(p.k / kTileSize))];
+    if (s < 0) return -1;
+    return std::ptrdiff_t(std::size_t(s) * kTileVoxels) + (p.i % kTileSize) +
+           kTileSize * ((p.j % kTileSize) + kTileSize * (p.k % kTileSize));
+}
+
+double Stage2State::at(const std::vector<double>& field, std::size_t v, double absent) const {
+    const std::ptrdiff_t p = poolIndex(v);
+    return p < 0 ? absent : field[std::size_t(p)];
+}
+
+double& Stage2State::ref(std::vector<double>& field, std::size_t v) {
+    if (poolIndex(v) < 0) {
+        const Index3 p = dims.coord(v);
+        activateTile(std::uint32_t(p.i / kTileSize + tilesX * (p.j / kTileSize + tilesY * (p.k / kTileSize))));
+        refreshTiles();
+    }
+    const std::size_t p = std::size_t(poolIndex(v));
+    const std::size_t slot = p / kTileVoxels;
+    nearSender[slot] = 1;  // a hand-set value is worked on by the next step: the whole tile is
+    const Index3 at = dims.coord(v);
+    const int i0 = at.i / kTileSize * kTileSize, j0 = at.j / kTileSize * kTileSize, k0 = at.k / kTileSize * kTileSize;
+    const int ni = std::min(kTileSize, dims.nx - i0), nj = std::min(kTileSize, dims.ny - j0),
+              nk = std::min(kTileSize, dims.nz - k0);
+    for (int r = 0; r < 64; ++r)
+        workMask[slot][std::size_t(r)] = (r & 7) < nj && (r >> 3) < nk ? std::uint8_t((1u << ni) - 1u) : 0;
+    return field[p];
+}
+
+void Stage2State::activateTile(std::uint32_t tile) {
+    if (tileSlot[tile] >= 0) return;
+    tileSlot[tile] = std::int32_t(activeTiles.size());
+    activeTiles.push_back(tile);
+    wetNow.push_back(0);
+    waterChanged.push_back(1);
+    pressureTop.push_back(-1.0);
+    nearSender.push_back(0);
+    senderMask.push_back(TileMask{});
+    workMask.push_back(TileMask{});
+    previousMask.push_back(TileMask{});
+    const std::size_t n = activeTiles.size() * kTileVoxels;
+    for (std::vector<double>* f : {&norm, &scale, &incoming, &fc, &fa, &upShare, &drainedHere, &erodedHere})
+        f->resize(n, 0.0);
+    accept.resize(n, 1.0);
+}
+
+void Stage2State::refreshTiles() {
+    neighbourBase.resize(activeTiles.size());
+    for (std::size_t s = 0; s < activeTiles.size(); ++s) {
+        const std::uint32_t t = activeTiles[s];
+        const int ti = int(t % std::uint32_t(tilesX));
+        const int tj = int((t / std::uint32_t(tilesX)) % std::uint32_t(tilesY));
+        const int tk = int(t / (std::uint32_t(tilesX) * std::uint32_t(tilesY)));
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int a = ti + dx, b = tj + dy, c = tk + dz;
+                    std::int64_t base = -1;
+                    if (a >= 0 && b >= 0 && c >= 0 && a < tilesX && b < tilesY && c < tilesZ) {
+                        const std::int32_t n = tileSlot[std::size_t(a + tilesX * (b + tilesY * c))];
+                        if (n >= 0) base = std::int64_t(n) * std::int64_t(kTileVoxels);
+                    }
+                    neighbourBase[s][std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1))] = base;
+                }
+    }
+    slotsInOrder.resize(activeTiles.size());
+    for (std::size_t s = 0; s < activeTiles.size(); ++s) slotsInOrder[s] = std::uint32_t(s);
+    std::sort(slotsInOrder.begin(), slotsInOrder.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return activeTiles[a] < activeTiles[b]; });
+}
+
+namespace {
+
+/// Marks a tile wet and activates it and its 26 neighbours; true if any was activated.
+bool wetTile(Stage2State& st, std::uint32_t t) {
+    const std::size_t before = st.activeTiles.size();
+    st.activateTile(t);
+    if (st.tileWet[t]) return st.activeTiles.size() != before;
+    st.tileWet[t] = 1;
+    const int ti = int(t % std::uint32_t(st.tilesX));
+    const int tj = int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY));
+    const int tk = int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)));
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int a = ti + dx, b = tj + dy, c = tk + dz;
+                if (a >= 0 && b >= 0 && c >= 0 && a < st.tilesX && b < st.tilesY && c < st.tilesZ)
+                    st.activateTile(std::uint32_t(a + st.tilesX * (b + st.tilesY * c)));
+            }
+    return st.activeTiles.size() != before;
+}
+
+std::uint32_t tileOf(const Stage2State& st, std::size_t v) {
+    const Index3 p = st.dims.coord(v);
+    return std::uint32_t(p.i / kTileSize + st.tilesX * (p.j / kTileSize + st.tilesY * (p.k / kTileSize)));
+}
+
+}  // namespace
+
+void activateWet(Stage2State& st) {
+    for (std::size_t v = 0; v < st.water.size(); ++v)
+        if (st.water[v] > 0) wetTile(st, tileOf(st, v));
+    st.refreshTiles();
+}
+
+void activateAll(Stage2State& st) {
+    for (std::size_t t = 0; t < st.tileSlot.size(); ++t) wetTile(st, std::uint32_t(t));
+    st.refreshTiles();
+}
+
+std::size_t growActiveTiles(Stage2State& st) {
+    const std::size_t before = st.activeTiles.size();
+    const std::size_t slotsBefore = before;
+    for (std::size_t s = 0; s < slotsBefore; ++s)
+        if (st.wetNow[s] && !st.tileWet[st.activeTiles[s]]) wetTile(st, st.activeTiles[s]);
+    if (st.activeTiles.size() != before) st.refreshTiles();
+    return st.activeTiles.size() - before;
+}
 
 Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
     Grid3<float> rate(dom.dims, float(g.pRate));
@@ -182,7 +425,43 @@ Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
     return rate;
 }
 
-std::vector<bool> connectedSources(const Domain& dom) { return connectedSourcesImpl(dom); }
+std::vector<bool> connectedSources(const Domain& dom) {
+    return connectedSourcesImpl(dom);
+}
+
+void reachFromSinks(const Domain& dom, Stage2State& st) {
+    std::fill(st.reached.begin(), st.reached.end(), false);
+    std::deque<std::size_t> queue;
+    for (const auto& sink : dom.sinkVoxels)
+        for (std::size_t v : sink)
+            if (!st.reached[v]) {
+                st.reached[v] = true;
+                queue.push_back(v);
+            }
+    conductingSearch(dom, queue, [&](std::size_t w) { return st.reached[w]; });
+}
+
+std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vector<std::size_t>& newConducting) {
+    const Dims& d = dom.dims;
+    std::deque<std::size_t> queue;
+    for (std::size_t c : newConducting) {
+        if (st.reached[c]) continue;
+        const Index3 p = d.coord(c);
+        bool touches = false;
+        for (const auto& o : allNeighbours()) {
+            const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
+            if (d.contains(i, j, k) && st.reached[d.index(i, j, k)]) {
+                touches = true;
+                break;
+            }
+        }
+        if (!touches) continue;
+        st.reached[c] = true;
+        queue.push_back(c);
+        conductingSearch(dom, queue, [&](std::size_t w) { return st.reached[w]; });
+    }
+    return sourcesIn(dom, st.reached);
+}
 
 std::vector<Refill> refillLevels(const Domain& dom) {
     // The strongest source refills to full capacity, a weaker one in proportion to its pressure.
@@ -196,44 +475,42 @@ std::vector<Refill> refillLevels(const Domain& dom) {
 
 double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage2State& st) {
     double injected = 0;
+    bool grown = false;
     for (const auto& [v, level] : levels) {
         const double target = level * dom.porosity[v];
         if (st.water[v] < target) {
             injected += target - st.water[v];
             st.water[v] = target;
         }
-        if (st.water[v] > 0) st.wetRow[v / std::size_t(dom.dims.nx)] = 1;
+        if (st.water[v] > 0) grown = wetTile(st, tileOf(st, v)) || grown;
+        st.waterChanged[std::size_t(st.tileSlot[tileOf(st, v)])] = 1;
     }
+    if (grown) st.refreshTiles();
     return injected;
 }
 
 void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight weight, Stage2State& st) {
     const bool proportional = weight == TransportWeight::kProportional;
-    std::array<double*, 26> offer{};
     std::array<double, 26> invLength{};
-    for (int sl = 0; sl < 26; ++sl) {
-        offer[std::size_t(sl)] = st.offer(sl);
-        invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
-    }
+    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
     const std::vector<double>& water = st.water;
-    // Rows far from any water are skipped: they neither offer nor receive.
-    forEachRow(dom.dims, [&](const Row& row) {
-        if (!st.wetRow[row.index] && !st.offerRow[row.index]) return;
-        bool any = false;
-        for (int i = 0; i < row.nx; ++i) {
-            const std::size_t v = row.first + std::size_t(i);
+    const Dims& d = dom.dims;
+    forEachTile(st, [&](const TileCtx& c) {
+        // A tile whose water did not change since its last scan has no senders (a sender always works
+        // on its own tile, which marks it changed).
+        if (!st.waterChanged[c.slot]) return;
+        st.waterChanged[c.slot] = 0;
+        TileMask& senders = st.senderMask[c.slot];
+        senders.fill(0);
+        forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double w = water[v];
-            if (w < kMinFlowingWater || (dom.flags[v] & kSink)) {
-                if (st.hadOffers[v]) {
-                    for (double* o : offer) o[v] = 0;
-                    st.hadOffers[v] = 0;
-                }
-                continue;
-            }
+            st.norm[p] = 0;
+            st.scale[p] = 0;
+            if (w < kMinFlowingWater || (dom.flags[v] & kSink)) return;
             // Participants (Listing 1, lines 1–4) and their weights, gathered once.
             std::array<double, 26> num{}, freeCap{};
             const double pv = P[v];
-            const double norm = pairedSum(row, i, [&](int sl, std::size_t u) {
+            const double norm = pairedSum(d, c, li, lj, lk, v, [&](int sl, std::size_t u, std::int64_t) {
                 const double pu = P[u];
                 if (!(pu < pv)) return 0.0;
                 const double fr = double(dom.porosity[u]) - water[u];
@@ -243,162 +520,282 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
                 freeCap[std::size_t(sl)] = fr;
                 return x;
             });
-            st.hadOffers[v] = 1;
-            any = true;
-            if (!(norm > 0)) {
-                for (double* o : offer) o[v] = 0;
-                continue;
-            }
+            if (!(norm > 0)) return;
             // Shares weight · free capacity; their total, in the same paired order.
             std::array<double, 26> share{};
             for (std::size_t sl = 0; sl < 26; ++sl) share[sl] = num[sl] != 0 ? (num[sl] / norm) * freeCap[sl] : 0.0;
             const double total = pairedSlotSum(share);
-            const double scale = total > w ? w / total : 1.0;  // never more in total than the contents
-            for (std::size_t sl = 0; sl < 26; ++sl) offer[sl][v] = share[sl] * scale;
+            st.norm[p] = norm;
+            st.scale[p] = total > w ? w / total : 1.0;  // never more in total than the contents
+            senders[std::size_t(lj + 8 * lk)] |= std::uint8_t(1u << li);
+        });
+    });
+    // The voxels that can receive, send, flow or erode this iteration: the senders and their 26
+    // neighbours (the sender masks dilated by one voxel, across tile borders).
+    const std::size_t nSlots = st.activeTiles.size();
+    tbb::parallel_for(std::size_t(0), nSlots, [&](std::size_t sl) {
+        const TileCtx c = tileCtx(st, sl);
+        const auto& nb = st.neighbourBase[sl];
+        const auto maskOf = [&](int dx, int dy, int dz, int row) -> unsigned {
+            const std::int64_t b = nb[std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1))];
+            return b < 0 ? 0u : st.senderMask[std::size_t(b) / kTileVoxels][std::size_t(row)];
+        };
+        TileMask& work = st.workMask[sl];
+        bool any = false;
+        const unsigned inside = c.ni >= 8 ? 0xffu : (1u << c.ni) - 1u;
+        for (int r = 0; r < 64; ++r) {
+            const int lj = r & 7, lk = r >> 3;
+            unsigned m = 0;
+            if (lj < c.nj && lk < c.nk)
+                for (int dk = -1; dk <= 1; ++dk)
+                    for (int dj = -1; dj <= 1; ++dj) {
+                        const int a = lj + dj, b = lk + dk;
+                        const int ty = a >> 3, tz = b >> 3, row = (a & 7) + 8 * (b & 7);
+                        const unsigned mc = maskOf(0, ty, tz, row);
+                        m |=
+                            mc | (mc << 1) | (mc >> 1) | (maskOf(-1, ty, tz, row) >> 7) | (maskOf(1, ty, tz, row) << 7);
+                    }
+            work[std::size_t(r)] = std::uint8_t(m & inside);
+            any = any || work[std::size_t(r)];
         }
-        st.offerRow[row.index] = any ? 1 : 0;
+        st.nearSender[sl] = any ? 1 : 0;
     });
 }
 
-void computeAcceptance(const Domain& dom, Stage2State& st) {
-    std::array<const double*, 26> offer{};
-    std::array<int, 26> opposite{};
-    for (int sl = 0; sl < 26; ++sl) {
-        offer[std::size_t(sl)] = st.offer(sl);
-        opposite[std::size_t(sl)] = slots()[std::size_t(sl)].opposite;
-    }
-    forEachRow(dom.dims, [&](const Row& row) {
-        if (!row.anyAround(st.offerRow)) {
-            std::fill_n(st.incoming.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
-            std::fill_n(st.accept.begin() + std::ptrdiff_t(row.first), row.nx, 1.0);
-            return;
-        }
-        for (int i = 0; i < row.nx; ++i) {
-            const std::size_t u = row.first + std::size_t(i);
-            // The offer reaching u from its neighbour v in direction s was made by v in the opposite direction.
-            const double in =
-                pairedSum(row, i, [&](int sl, std::size_t v) { return offer[std::size_t(opposite[std::size_t(sl)])][v]; });
-            st.incoming[u] = in;
-            const double freeCap = (dom.flags[u] & kSink) ? in : double(dom.porosity[u]) - st.water[u];
+double offerOf(const Domain& dom, const Grid3<double>& P, TransportWeight weight, const Stage2State& st, std::size_t v,
+               int slot) {
+    const Slot& o = slots()[std::size_t(slot)];
+    const Index3 p = dom.dims.coord(v);
+    if (!dom.dims.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) return 0.0;
+    const double nv = st.at(st.norm, v);
+    if (!(nv > 0)) return 0.0;
+    const std::size_t u = dom.dims.index(p.i + o.di, p.j + o.dj, p.k + o.dk);
+    return offerValue(P[v], nv, st.at(st.scale, v), P[u], double(dom.porosity[u]) - st.water[u], o.invLength,
+                      weight == TransportWeight::kProportional);
+}
+
+void computeAcceptance(const Domain& dom, const Grid3<double>& P, TransportWeight weight, Stage2State& st) {
+    const bool proportional = weight == TransportWeight::kProportional;
+    std::array<double, 26> invLength{};
+    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const Dims& d = dom.dims;
+    forEachTile(st, [&](const TileCtx& c) {
+        const TileMask& work = st.workMask[c.slot];
+        const TileMask& previous = st.previousMask[c.slot];
+        // Voxels that worked last iteration and rest now: their transients back to rest.
+        TileMask leaving{};
+        for (std::size_t r = 0; r < 64; ++r) leaving[r] = std::uint8_t(previous[r] & ~work[r]);
+        forEachMasked(d, c, leaving, [&](std::size_t, std::size_t p, int, int, int) {
+            st.incoming[p] = st.fc[p] = st.fa[p] = st.upShare[p] = st.drainedHere[p] = st.erodedHere[p] = 0;
+            st.accept[p] = 1;
+        });
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        forEachMasked(d, c, work, [&](std::size_t u, std::size_t p, int li, int lj, int lk) {
+            const double pu = P[u];
+            const double fr = double(dom.porosity[u]) - st.water[u];
+            // The offer reaching u from its neighbour v, recomputed from v's norm and scale.
+            const double in = pairedSum(d, c, li, lj, lk, u, [&](int sl, std::size_t v, std::int64_t q) {
+                if (q < 0) return 0.0;
+                const double nv = st.norm[std::size_t(q)];
+                if (!(nv > 0)) return 0.0;
+                return offerValue(P[v], nv, st.scale[std::size_t(q)], pu, fr, invLength[std::size_t(sl)], proportional);
+            });
+            st.incoming[p] = in;
+            const double freeCap = (dom.flags[u] & kSink) ? in : fr;
             // Round-off in moveWater may leave a voxel an ulp over full (freeCap < 0); nobody
             // offers to a full voxel, so in = 0 there, and 0 / 0 must not be taken: with nothing
             // incoming there is nothing to refuse.
-            st.accept[u] = in > 0 && in > freeCap ? std::max(0.0, freeCap) / in : 1.0;
-        }
+            st.accept[p] = in > 0 && in > freeCap ? std::max(0.0, freeCap) / in : 1.0;
+        });
     });
 }
 
-std::pair<double, double> moveWater(const Domain& dom, Stage2State& st) {
-    std::array<const double*, 26> offer{};
-    for (int sl = 0; sl < 26; ++sl) offer[std::size_t(sl)] = st.offer(sl);
-    forEachRow(dom.dims, [&](const Row& row) {
-        bool any = false;
-        for (int i = 0; i < row.nx; ++i) {
-            const std::size_t v = row.first + std::size_t(i);
-            st.fc[v] = st.offerRow[row.index] && st.hadOffers[v]
-                           ? pairedSum(row, i, [&](int sl, std::size_t u) { return offer[std::size_t(sl)][v] * st.accept[u]; })
-                           : 0.0;
-            any = any || st.fc[v] > 0;
-        }
-        st.flowRow[row.index] = any ? 1 : 0;
+std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, TransportWeight weight,
+                                    Stage2State& st) {
+    const bool proportional = weight == TransportWeight::kProportional;
+    std::array<double, 26> invLength{};
+    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const Dims& d = dom.dims;
+    // f_c: what each sender's offers bring, times the receivers' acceptance (read-only water).
+    forEachTile(st, [&](const TileCtx& c) {
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
+            const double nv = st.norm[p];
+            if (!(nv > 0)) {
+                st.fc[p] = 0;
+                return;
+            }
+            const double pv = P[v], sc = st.scale[p];
+            st.fc[p] = pairedSum(d, c, li, lj, lk, v, [&](int sl, std::size_t u, std::int64_t q) {
+                const double offer = offerValue(pv, nv, sc, P[u], double(dom.porosity[u]) - st.water[u],
+                                                invLength[std::size_t(sl)], proportional);
+                return offer * (q < 0 ? 1.0 : st.accept[std::size_t(q)]);
+            });
+        });
+    });
+    forEachTile(st, [&](const TileCtx& c) {
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        bool wet = st.wetNow[c.slot];
+        st.waterChanged[c.slot] = 1;
+        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int, int, int) {
+            st.water[v] += st.accept[p] * st.incoming[p] - st.fc[p];
+            st.drainedHere[p] = 0;
+            if (dom.flags[v] & kSink) {
+                st.drainedHere[p] = st.water[v];
+                st.water[v] = 0;
+            }
+            wet = wet || st.water[v] > 0;
+        });
+        st.wetNow[c.slot] = wet ? 1 : 0;
     });
     double drained = 0, moved = 0;
-    std::fill(st.wetRow.begin(), st.wetRow.end(), 0);
-    const std::size_t n = st.water.size();
-    for (std::size_t v = 0; v < n; ++v) {
-        st.water[v] += st.accept[v] * st.incoming[v] - st.fc[v];
-        moved += st.fc[v];
-        if (dom.flags[v] & kSink) {
-            drained += st.water[v];
-            st.water[v] = 0;
-        }
-        if (st.water[v] > 0) st.wetRow[v / std::size_t(dom.dims.nx)] = 1;
-    }
+    forEachActiveInVoxelOrder(st, true, [&](std::size_t v, std::size_t p) {
+        moved += st.fc[p];
+        if (dom.flags[v] & kSink) drained += st.drainedHere[p];
+    });
     return {moved, drained};
 }
 
 void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending, Stage2State& st) {
     const bool split = blending == FlowBlending::kSplit;
-    if (split) forEachRow(dom.dims, [&](const Row& row) {
-        for (int i = 0; i < row.nx; ++i) {
-            const std::size_t v = row.first + std::size_t(i);
-            if (st.fc[v] == 0) {
-                st.upShare[v] = 0;
-                continue;
-            }
-            const double pv = P[v];
-            const double up = pairedSum(row, i, [&](int, std::size_t u) { return P[u] > pv ? 1.0 : 0.0; });
-            st.upShare[v] = up > 0 ? st.fc[v] / up : 0.0;
-        }
-    });
-    forEachRow(dom.dims, [&](const Row& row) {
-        if (!row.anyAround(st.flowRow)) {
-            std::fill_n(st.fa.begin() + std::ptrdiff_t(row.first), row.nx, 0.0);
-            return;
-        }
-        for (int i = 0; i < row.nx; ++i) {
-            const std::size_t v = row.first + std::size_t(i);
+    const Dims& d = dom.dims;
+    if (split)
+        forEachTile(st, [&](const TileCtx& c) {
+            if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+            forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
+                if (st.fc[p] == 0) {
+                    st.upShare[p] = 0;
+                    return;
+                }
+                const double pv = P[v];
+                const double up = pairedSum(d, c, li, lj, lk, v,
+                                            [&](int, std::size_t u, std::int64_t) { return P[u] > pv ? 1.0 : 0.0; });
+                st.upShare[p] = up > 0 ? st.fc[p] / up : 0.0;
+            });
+        });
+    forEachTile(st, [&](const TileCtx& c) {
+        if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double pv = P[v];
             if (split) {
-                st.fa[v] = pairedSum(row, i, [&](int, std::size_t u) { return P[u] < pv ? st.upShare[u] : 0.0; });
+                st.fa[p] = pairedSum(d, c, li, lj, lk, v, [&](int, std::size_t u, std::int64_t q) {
+                    return q >= 0 && P[u] < pv ? st.upShare[std::size_t(q)] : 0.0;
+                });
             } else {
                 double strongest = 0;  // max is order-free: mirror symmetry and determinism hold
-                pairedSum(row, i, [&](int, std::size_t u) {
-                    if (P[u] < pv) strongest = std::max(strongest, st.fc[u]);
+                pairedSum(d, c, li, lj, lk, v, [&](int, std::size_t u, std::int64_t q) {
+                    if (q >= 0 && P[u] < pv) strongest = std::max(strongest, st.fc[std::size_t(q)]);
                     return 0.0;
                 });
-                st.fa[v] = strongest;
+                st.fa[p] = strongest;
             }
-        }
+        });
     });
 }
 
-double erode(Domain& dom, const Stage2Options& g, const Stage2State& st, Grid3<float>& rate,
-             std::vector<std::size_t>& newChannel) {
-    double eroded = 0;
-    const float threshold = float(g.channelThreshold);
-    const std::size_t n = dom.dims.count();
-    for (std::size_t v = 0; v < n; ++v) {
-        std::uint8_t& f = dom.flags[v];
-        if (f & kOpen) continue;
-        const double flow = g.wa * st.fa[v] + st.fc[v];
-        if (flow > 0) {
-            const float R = dom.porosity[v];
-            const double dR = std::min(g.w0 * (g.m == 1.0 ? flow : std::pow(flow, g.m)), 1.0 - double(R));
-            if (dR > 0) {
-                dom.porosity[v] = std::min(1.f, float(double(R) + dR));
-                eroded += double(dom.porosity[v]) - double(R);
-            }
+namespace {
+
+/// The channel rule of one voxel: flags it, lowers its rate, records it.
+inline void channelRule(Domain& dom, const Stage2Options& g, std::size_t v, Grid3<float>& rate, float threshold,
+                        std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting) {
+    std::uint8_t& f = dom.flags[v];
+    if (!(f & kChannel) && dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v]) {
+        f |= kChannel;
+        newConducting.push_back(v);
+        if (rate[v] > float(g.pRateChannel)) {
+            rate[v] = float(g.pRateChannel);
+            newChannel.push_back(v);
         }
-        if (!(f & kChannel) && dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v]) {
-            f |= kChannel;
-            if (rate[v] > float(g.pRateChannel)) {
-                rate[v] = float(g.pRateChannel);
-                newChannel.push_back(v);
-            }
-        }
-        dom.flow[v] = float(flow);
     }
+}
+
+}  // namespace
+
+double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>& rate,
+             std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting) {
+    const float threshold = float(g.channelThreshold);
+    const Dims& d = dom.dims;
+    std::vector<std::vector<std::size_t>> fresh(st.activeTiles.size()), conducting(st.activeTiles.size());
+    forEachTile(st, [&](const TileCtx& c) {
+        const TileMask& work = st.workMask[c.slot];
+        TileMask& previous = st.previousMask[c.slot];
+        // f = 0 where nothing flows now (Eq. 1 erodes nothing): clear the flow of the last iteration once.
+        TileMask leaving{};
+        for (std::size_t r = 0; r < 64; ++r) leaving[r] = std::uint8_t(previous[r] & ~work[r]);
+        forEachMasked(d, c, leaving, [&](std::size_t v, std::size_t, int, int, int) {
+            if (!(dom.flags[v] & kOpen)) dom.flow[v] = 0.f;
+        });
+        previous = work;
+        if (!st.nearSender[c.slot]) return;
+        forEachMasked(d, c, work, [&](std::size_t v, std::size_t p, int, int, int) {
+            st.erodedHere[p] = 0;
+            if (dom.flags[v] & kOpen) return;
+            const double flow = g.wa * st.fa[p] + st.fc[p];
+            if (flow > 0) {
+                const float R = dom.porosity[v];
+                const double dR = std::min(g.w0 * (g.m == 1.0 ? flow : std::pow(flow, g.m)), 1.0 - double(R));
+                if (dR > 0) {
+                    dom.porosity[v] = std::min(1.f, float(double(R) + dR));
+                    st.erodedHere[p] = double(dom.porosity[v]) - double(R);
+                }
+            }
+            channelRule(dom, g, v, rate, threshold, fresh[c.slot], conducting[c.slot]);
+            dom.flow[v] = float(flow);
+        });
+    });
+    for (std::size_t s = 0; s < fresh.size(); ++s) {
+        newChannel.insert(newChannel.end(), fresh[s].begin(), fresh[s].end());
+        newConducting.insert(newConducting.end(), conducting[s].begin(), conducting[s].end());
+        st.channelVoxels += long(conducting[s].size());
+    }
+    double eroded = 0;
+    forEachActiveInVoxelOrder(st, true, [&](std::size_t, std::size_t p) { eroded += st.erodedHere[p]; });
     return eroded;
 }
 
+void startStage2(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>& rate) {
+    const float threshold = float(g.channelThreshold);
+    std::vector<std::size_t> newChannel, newConducting;
+    st.channelVoxels = 0;
+    for (std::size_t v = 0; v < dom.flags.size(); ++v) {
+        if (dom.flags[v] & kChannel) ++st.channelVoxels;
+        if (!(dom.flags[v] & kOpen)) channelRule(dom, g, v, rate, threshold, newChannel, newConducting);
+    }
+    st.channelVoxels += long(newConducting.size());
+    for (const auto& src : dom.sourceVoxels)
+        for (std::size_t v : src) wetTile(st, tileOf(st, v));
+    st.refreshTiles();
+    reachFromSinks(dom, st);
+}
+
 std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>& rate,
-                           const std::vector<std::size_t>& newChannel) {
-    return newChannel.empty() ? 0 : pressure.decrease(rate, newChannel);
+                           const std::vector<std::size_t>& newChannel, double limit) {
+    return newChannel.empty() && pressure.settled() ? 0 : pressure.decrease(rate, newChannel, limit);
+}
+
+double pressureNeeded(Stage2State& st, const Grid3<double>& pressure) {
+    // Pressure only falls, so a tile's largest pressure taken when it was activated stays an upper
+    // bound: each tile is scanned once.
+    forEachTile(st, [&](const TileCtx& c) {
+        if (st.pressureTop[c.slot] >= 0) return;
+        double m = 0;
+        forEachVoxel(st.dims, c, [&](std::size_t v, std::size_t, int, int, int) { m = std::max(m, pressure[v]); });
+        st.pressureTop[c.slot] = m;
+    });
+    double m = 0;
+    for (double x : st.pressureTop) m = std::max(m, x);  // max is order-free
+    return m;
 }
 
 std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure,
                                          int iteration) {
     double stored = 0;
-    long channels = 0;
     bool finite = true;
-    const std::size_t n = st.water.size();
-    for (std::size_t v = 0; v < n; ++v) {
+    forEachActiveInVoxelOrder(st, false, [&](std::size_t v, std::size_t) {
         stored += st.water[v];
         finite = finite && std::isfinite(st.water[v]) && std::isfinite(dom.flow[v]) && std::isfinite(pressure[v]);
-        channels += (dom.flags[v] & kChannel) ? 1 : 0;
-    }
-    if (finite) return {stored, channels};
+    });
+    if (finite) return {stored, st.channelVoxels};
     // Name the quantity that went bad first, in cause-before-effect order, and its first voxel.
     const auto fail = [&](const char* name, std::size_t v, double x) {
         const Index3 p = dom.dims.coord(v);
@@ -406,16 +803,20 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
                            std::to_string(x) + ") at voxel (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
                            ", " + std::to_string(p.k) + ")");
     };
-    const std::pair<const char*, const std::vector<double>*> fields[] = {
-        {"accept", &st.accept}, {"incoming water", &st.incoming}, {"outflow f_c", &st.fc},
-        {"water", &st.water},   {"blended flow f_a", &st.fa},     {"pressure", &pressure.data}};
-    for (const auto& [name, x] : fields)
-        for (std::size_t v = 0; v < n; ++v)
-            if (!std::isfinite((*x)[v])) fail(name, v, (*x)[v]);
-    for (std::size_t v = 0; v < n; ++v)
-        if (!std::isfinite(dom.porosity[v])) fail("porosity", v, dom.porosity[v]);
-    for (std::size_t v = 0; v < n; ++v)
-        if (!std::isfinite(dom.flow[v])) fail("flow", v, dom.flow[v]);
+    const auto check = [&](const char* name, auto&& value) {
+        forEachActiveInVoxelOrder(st, false, [&](std::size_t v, std::size_t p) {
+            const double x = value(v, p);
+            if (!std::isfinite(x)) fail(name, v, x);
+        });
+    };
+    check("accept", [&](std::size_t, std::size_t p) { return st.accept[p]; });
+    check("incoming water", [&](std::size_t, std::size_t p) { return st.incoming[p]; });
+    check("outflow f_c", [&](std::size_t, std::size_t p) { return st.fc[p]; });
+    check("water", [&](std::size_t v, std::size_t) { return st.water[v]; });
+    check("blended flow f_a", [&](std::size_t, std::size_t p) { return st.fa[p]; });
+    check("pressure", [&](std::size_t v, std::size_t) { return pressure[v]; });
+    check("porosity", [&](std::size_t v, std::size_t) { return double(dom.porosity[v]); });
+    check("flow", [&](std::size_t v, std::size_t) { return double(dom.flow[v]); });
     throw RuntimeError("stage 2, iteration " + std::to_string(iteration) + ": state became non-finite");
 }
 
@@ -423,13 +824,12 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
 
 using namespace stage2;
 
-
 double stage2PressureCap(const Domain& dom, const Stage2Options& g) {
     double pmax = 0;
     for (double p : dom.sourcePressure) pmax = std::max(pmax, p);
     if (pmax <= 0) pmax = 1;
-    const double scale = g.pressureScale > 0 ? g.pressureScale
-                                             : 2.0 * g.pRate * double(dom.dims.nx + dom.dims.ny + dom.dims.nz);
+    const double scale =
+        g.pressureScale > 0 ? g.pressureScale : 2.0 * g.pRate * double(dom.dims.nx + dom.dims.ny + dom.dims.nz);
     return pmax * scale;
 }
 
@@ -452,7 +852,8 @@ void prepareStage2(Domain& dom, const Stage2Options& g) {
 
 Grid3<double> solvePressureFull(const Domain& dom, const Stage2Options& g) {
     fastmarch::EikonalField field;
-    field.solve(dom.dims, rateField(dom, g), sinkSeeds(dom), stage2PressureCap(dom, g), fastmarch::Stencil::kAvalanche26);
+    field.solve(dom.dims, rateField(dom, g), sinkSeeds(dom), stage2PressureCap(dom, g),
+                fastmarch::Stencil::kAvalanche26);
     return field.value();
 }
 
@@ -467,14 +868,15 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
 
     Grid3<float> rate = rateField(dom, g);
     fastmarch::EikonalField pressure;
+
+    Stage2State st(d);
+    startStage2(dom, g, st, rate);
     {
         const Stopwatch tp;
         pressure.solve(d, rate, sinkSeeds(dom), res.pressureCap, fastmarch::Stencil::kAvalanche26);
         res.pressureSeconds += tp.seconds();
     }
-
-    Stage2State st(d);
-    std::vector<std::size_t> changed;
+    std::vector<std::size_t> changed, conducting;
     double stored = 0;
 
     for (int it = 1; it <= g.iterations; ++it) {
@@ -486,20 +888,25 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         const Stopwatch tt;
         rec.injected = refillSources(dom, refill, st);
         computeOffers(dom, P, g.weight, st);
-        computeAcceptance(dom, st);
-        std::tie(rec.flow, rec.drained) = moveWater(dom, st);
+        computeAcceptance(dom, P, g.weight, st);
+        std::tie(rec.flow, rec.drained) = moveWater(dom, P, g.weight, st);
         res.transportSeconds += tt.seconds();
 
         const Stopwatch te;
         blendFlow(dom, P, g.blending, st);
         changed.clear();
-        rec.eroded = erode(dom, g, st, rate, changed);
+        conducting.clear();
+        rec.eroded = erode(dom, g, st, rate, changed, conducting);
+        growActiveTiles(st);
+        for (std::size_t sl = 0; sl < st.activeTiles.size(); ++sl)
+            if (st.nearSender[sl])
+                for (std::uint8_t b : st.workMask[sl]) res.workedVoxelIterations += double(__builtin_popcount(b));
         res.erosionSeconds += te.seconds();
 
         // Pressure: propagate the decreases caused by new channel voxels.
         {
             const Stopwatch tp;
-            rec.pressureUpdates = long(updatePressure(pressure, rate, changed));
+            rec.pressureUpdates = long(updatePressure(pressure, rate, changed, pressureNeeded(st, pressure.value())));
             res.pressureSeconds += tp.seconds();
         }
 
@@ -509,7 +916,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         rec.balanceError = std::abs((stored - storedBefore) - (rec.injected - rec.drained));
         res.totalInjected += rec.injected;
         res.totalDrained += rec.drained;
-        const std::vector<bool> conn = connectedSources(dom);
+        const std::vector<bool> conn = extendReach(dom, st, conducting);
         for (std::size_t si = 0; si < conn.size(); ++si) {
             if (conn[si]) {
                 ++rec.sourcesConnected;
@@ -521,6 +928,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         res.iterations = it;
 
         if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
+            pressure.settle(rate);  // the whole field for the picture
             for (std::size_t v = 0; v < n; ++v) {
                 dom.water[v] = float(st.water[v]);
                 dom.pressure[v] = float(pressure.value()[v]);
@@ -530,6 +938,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         reportProgress(progress, "stage 2", it, g.iterations);
     }
 
+    res.activeTiles = long(st.activeTiles.size());
+    res.tiles = long(st.tileSlot.size());
+    pressure.settle(rate);  // the sweeps that waited beyond the water
     for (std::size_t v = 0; v < n; ++v) {
         dom.water[v] = float(st.water[v]);
         dom.pressure[v] = float(pressure.value()[v]);
@@ -537,7 +948,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     const double net = stored - (res.totalInjected - res.totalDrained);
     res.waterBalanceRelError = res.totalInjected > 0 ? std::abs(net) / res.totalInjected : 0.0;
     if (!(res.waterBalanceRelError < 1e-6)) {
-        throw RuntimeError("stage 2: water not conserved (relative error " + std::to_string(res.waterBalanceRelError) + ")");
+        throw RuntimeError("stage 2: water not conserved (relative error " + std::to_string(res.waterBalanceRelError) +
+                           ")");
     }
     res.seconds = t0.seconds();
     return res;

@@ -21,6 +21,9 @@
 ///     channel pressure rate); breakthrough = the first iteration a channel joins a source to a sink.
 ///
 /// The steps are named functions in sim/stage2_steps.h, each tested against hand-computed numbers.
+/// They work only where water is: on the 8³ tiles water reached (and their neighbours), and there
+/// only on the senders and their 26 neighbours; the pressure decrease is propagated only as far as
+/// those voxels read it (docs/model.md, "Where stage 2 works").
 /// Every sum over neighbours pairs the −x and +x neighbour first, so an x-mirrored scenario gives
 /// an x-mirrored result bit for bit; every voxel's update reads only the previous state, so the
 /// result is the same for any thread count.
@@ -39,27 +42,30 @@ namespace cavesim {
 /// Totals of one stage-2 iteration. Water and volume in voxel units (porosity × voxels).
 struct Stage2Record {
     int iteration = 0;
-    double injected = 0;        ///< water added at sources
-    double drained = 0;         ///< water removed at sinks
-    double stored = 0;          ///< water in the domain after the iteration
-    double flow = 0;            ///< Σ f_c: water moved this iteration
-    double eroded = 0;          ///< Σ ΔR this iteration
-    long channelVoxels = 0;     ///< voxels flagged channel after the iteration
-    long pressureUpdates = 0;   ///< voxels whose pressure changed this iteration
-    int sourcesConnected = 0;   ///< sources joined to a sink through channel voxels
-    double balanceError = 0;    ///< |Δstored − (injected − drained)| this iteration
+    double injected = 0;       ///< water added at sources
+    double drained = 0;        ///< water removed at sinks
+    double stored = 0;         ///< water in the domain after the iteration
+    double flow = 0;           ///< Σ f_c: water moved this iteration
+    double eroded = 0;         ///< Σ ΔR this iteration
+    long channelVoxels = 0;    ///< voxels flagged channel after the iteration
+    long pressureUpdates = 0;  ///< voxels whose pressure changed this iteration
+    int sourcesConnected = 0;  ///< sources joined to a sink through channel voxels
+    double balanceError = 0;   ///< |Δstored − (injected − drained)| this iteration
 };
 
 struct Stage2Result {
     int iterations = 0;
-    std::optional<int> breakthroughIteration;  ///< first iteration with a source joined to a sink
+    std::optional<int> breakthroughIteration;                  ///< first iteration with a source joined to a sink
     std::vector<std::optional<int>> sourceConnectedIteration;  ///< per source, scenario order
     double waterBalanceRelError = 0;  ///< |stored_end − stored_0 − (injected − drained)| / injected
     double totalInjected = 0, totalDrained = 0;
-    double pressureCap = 0;           ///< the source pressure used as cap
+    double pressureCap = 0;  ///< the source pressure used as cap
     std::vector<Stage2Record> history;
     double seconds = 0;
     double pressureSeconds = 0, transportSeconds = 0, erosionSeconds = 0;
+    double workedVoxelIterations = 0;  ///< Σ over iterations of the voxels that worked (senders and their neighbours)
+    long activeTiles = 0;              ///< 8³ tiles the water reached, with their neighbours, at the end
+    long tiles = 0;                    ///< 8³ tiles of the block
 };
 
 /// Called after the iterations listed in `[stage2] snapshots` (and never otherwise).

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -33,26 +34,74 @@
 
 namespace cavesim::stage2 {
 
-/// The working state of stage 2 besides the domain: water in double precision and the per-step
-/// arrays, all of the domain's size.
+/// Stage 2 works on tiles of 8 × 8 × 8 voxels (the last tile along an axis may be cut by the grid).
+constexpr int kTileSize = 8;
+constexpr std::size_t kTileVoxels = 512;
+/// One bit per voxel of a tile: byte lj + 8·lk, bit li.
+using TileMask = std::array<std::uint8_t, 64>;
+
+/// The working state of stage 2 besides the domain. The water contents are dense (8 bytes a
+/// voxel); everything else a step computes lives only on the **active tiles**: the tiles that
+/// have held water and their 26 neighbour tiles (water moves at most one voxel per iteration, so
+/// no voxel outside them can send, receive, flow or erode). Tiles are activated as water reaches
+/// them and never deactivated, so the cost of an iteration follows the region the water reached,
+/// not the block. Per-voxel transients of active tiles are indexed `slot · 512 + local`, where
+/// `slot` is the tile's position in `activeTiles` and `local = li + 8·(lj + 8·lk)`.
 struct Stage2State {
     explicit Stage2State(const Dims& dims);
 
-    std::vector<double> water;     ///< contents W of each voxel
-    std::vector<double> incoming;  ///< Σ of the offers a voxel received this iteration
-    std::vector<double> accept;    ///< fraction of every offer a voxel accepts, [0, 1]
-    std::vector<double> fc;        ///< f_c: water that left a voxel this iteration
-    std::vector<double> fa;        ///< f_a of Eq. 2
-    std::vector<double> upShare;   ///< "split" blending: f_c / number of uphill neighbours
-    /// offer(s, v): what voxel v offers its neighbour in direction slot s (slot-major).
-    std::vector<double> offerStore;
-    std::vector<std::uint8_t> hadOffers;  ///< v's offers may be non-zero
-    /// Per row (j, k): some contents, some offers, some outflow. Rows far from any water skip work.
-    std::vector<std::uint8_t> wetRow, offerRow, flowRow;
+    Dims dims;
+    int tilesX = 0, tilesY = 0, tilesZ = 0;  ///< tiles along each axis
+    std::vector<double> water;               ///< contents W of each voxel (dense)
 
-    double* offer(int slot) { return offerStore.data() + std::size_t(slot) * water.size(); }
-    const double* offer(int slot) const { return offerStore.data() + std::size_t(slot) * water.size(); }
+    std::vector<std::int32_t> tileSlot;      ///< per tile of the grid: its slot, −1 when inactive
+    std::vector<std::uint32_t> activeTiles;  ///< slot → tile id (ti + tilesX·(tj + tilesY·tk)), in activation order
+    std::vector<std::uint8_t> tileWet;       ///< per tile of the grid: has held water (its neighbours are active)
+    std::vector<std::uint32_t> slotsInOrder;  ///< active slots sorted by tile id (for sums in voxel order)
+    /// per slot: pool base (slot · 512) of the 27 tiles around it, index (dx+1) + 3(dy+1) + 9(dz+1); −1 inactive
+    std::vector<std::array<std::int64_t, 27>> neighbourBase;
+    std::vector<std::uint8_t> wetNow;        ///< per slot: holds water after the last moveWater
+    std::vector<std::uint8_t> waterChanged;  ///< per slot: water changed since computeOffers last scanned it
+    std::vector<double> pressureTop;         ///< per slot: an upper bound of its pressure (−1: not yet taken)
+    std::vector<std::uint8_t> nearSender;    ///< per slot: some voxel of the tile works this iteration
+    std::vector<TileMask> senderMask;        ///< per slot: voxels that send this iteration
+    std::vector<TileMask> workMask;          ///< per slot: senders and their 26 neighbours (only these do work)
+    std::vector<TileMask> previousMask;      ///< per slot: workMask of the last iteration
+
+    // Per-voxel transients of the active tiles (slot · 512 + local).
+    std::vector<double> norm;         ///< Σ weights of a sender's participants; 0 for a voxel that sends nothing
+    std::vector<double> scale;        ///< min(1, W / Σ shares) of a sender
+    std::vector<double> incoming;     ///< Σ of the offers a voxel received this iteration
+    std::vector<double> accept;       ///< fraction of every offer a voxel accepts, [0, 1]
+    std::vector<double> fc;           ///< f_c: water that left a voxel this iteration
+    std::vector<double> fa;           ///< f_a of Eq. 2
+    std::vector<double> upShare;      ///< "split" blending: f_c / number of uphill neighbours
+    std::vector<double> drainedHere;  ///< water a sink voxel drained this iteration
+    std::vector<double> erodedHere;   ///< ΔR of a voxel this iteration
+
+    long channelVoxels = 0;     ///< voxels flagged channel
+    std::vector<bool> reached;  ///< joined to a sink through channel, source and sink voxels
+
+    /// Pool index of voxel v, or −1 when its tile is inactive.
+    std::ptrdiff_t poolIndex(std::size_t v) const;
+    /// A transient of voxel v (`absent` when its tile is inactive: the value every step leaves there).
+    double at(const std::vector<double>& field, std::size_t v, double absent = 0.0) const;
+    /// A transient of voxel v for writing (tests); activates its tile and marks it near a sender.
+    double& ref(std::vector<double>& field, std::size_t v);
+    /// Activates a tile (by tile id): transients with their resting values (accept 1, the rest 0).
+    void activateTile(std::uint32_t tile);
+    /// Updates `neighbourBase` and `slotsInOrder` after tiles were activated.
+    void refreshTiles();
 };
+
+/// Activates every tile holding water, and the tiles around them (a full-grid scan: for tests and
+/// hand-made states; runStage2 grows the active tiles incrementally).
+void activateWet(Stage2State& state);
+/// Activates every tile of the grid (tests).
+void activateAll(Stage2State& state);
+/// After moveWater: tiles that hold water for the first time activate their 26 neighbour tiles.
+/// Returns the number of tiles activated.
+std::size_t growActiveTiles(Stage2State& state);
 
 /// The 26 neighbour directions in the order every stage-2 sum uses: groups (dj, dk) with dk then
 /// dj from −1 to 1, and in each group −x, +x, then x = 0 (absent for the centre group).
@@ -77,16 +126,24 @@ double refillSources(const Domain& domain, const std::vector<Refill>& levels, St
 /// lower-pressure neighbour u with free capacity R_u − W_u > 0 gets the offer
 /// scale · weight(v→u) / Σ weight · (R_u − W_u), weight = (P_v − P_u) / |v − u| (proportional) or 1
 /// (uniform), scale = min(1, W_v / Σ shares): never more in total than v holds.
+/// Offers are not stored: a sender keeps its `norm` and `scale`, and every offer is recomputed
+/// from them and the receiver's state where it is needed (`offerOf`), with the same arithmetic.
 void computeOffers(const Domain& domain, const Grid3<double>& pressure, TransportWeight weight, Stage2State& state);
 
-/// Step 3: incoming(u) = Σ offers to u; accept(u) = min(1, free capacity / incoming) (a sink
-/// accepts everything; with nothing incoming, 1 — also for a voxel an ulp over full, whose free
-/// capacity is slightly negative).
-void computeAcceptance(const Domain& domain, Stage2State& state);
+/// The offer voxel v makes this iteration to its neighbour in direction `slot` (after
+/// computeOffers; 0 outside the grid).
+double offerOf(const Domain& domain, const Grid3<double>& pressure, TransportWeight weight, const Stage2State& state,
+               std::size_t v, int slot);
+
+/// Step 3 (needs the pressure and weight to recompute the offers): incoming(u) = Σ offers to u; accept(u) = min(1, free
+/// capacity / incoming) (a sink accepts everything; with nothing incoming, 1 — also for a voxel an ulp over full, whose
+/// free capacity is slightly negative).
+void computeAcceptance(const Domain& domain, const Grid3<double>& pressure, TransportWeight weight, Stage2State& state);
 
 /// Step 4: moves the accepted water, sets f_c (water that left each voxel) and drains the sinks.
-/// Returns {Σ f_c, water drained}.
-std::pair<double, double> moveWater(const Domain& domain, Stage2State& state);
+/// Returns {Σ f_c, water drained}, both summed in voxel order.
+std::pair<double, double> moveWater(const Domain& domain, const Grid3<double>& pressure, TransportWeight weight,
+                                    Stage2State& state);
 
 /// Step 5 (Eq. 2): f_a of each voxel from its lower-pressure neighbours: the largest f_c among
 /// them (kMax), or the sum of the shares f_c / (number of their uphill neighbours) (kSplit).
@@ -95,25 +152,54 @@ void blendFlow(const Domain& domain, const Grid3<double>& pressure, FlowBlending
 /// Step 6 (Eq. 1): for every voxel that is neither source nor sink, f = wa · f_a + f_c and
 /// R += min(w0 · f^m, 1 − R); domain.flow = f. A voxel whose porosity reaches the channel
 /// threshold (and exceeds its initial porosity) becomes channel; its pressure rate drops to
-/// pRateChannel in `rate`, and its index is appended to `newChannel`. Returns Σ ΔR.
-double erode(Domain& domain, const Stage2Options& options, const Stage2State& state, Grid3<float>& rate,
-             std::vector<std::size_t>& newChannel);
+/// pRateChannel in `rate`, and its index is appended to `newChannel` (tile by tile); every voxel
+/// newly flagged channel is appended to `newConducting` and counted in `state.channelVoxels`.
+/// Only active tiles are visited (elsewhere f = 0 and porosity does not change). Returns Σ ΔR in
+/// voxel order.
+double erode(Domain& domain, const Stage2Options& options, Stage2State& state, Grid3<float>& rate,
+             std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting);
+
+/// Before the first iteration (one sweep of the grid, the only one of stage 2): counts the channel
+/// voxels, flags every voxel that already meets the channel rule (porosity ≥ threshold and above
+/// its initial value; after prepareStage2 only protochannels opened past the threshold) and
+/// lowers its rate, activates the tiles around the sources, and marks what is joined to a sink.
+void startStage2(Domain& domain, const Stage2Options& options, Stage2State& state, Grid3<float>& rate);
 
 /// Step 7: the pressure after the voxels in `newChannel` took the channel rate (rates only fall,
 /// so pressure only falls): the decrease re-propagated from them through `pressure`. Returns the
 /// number of voxels whose pressure changed.
+/// Only values up to `limit` are made final (pressureNeeded: the largest pressure of the active
+/// tiles, the only voxels the next iteration reads); the rest of the sweep waits in `pressure`
+/// until it is needed or settled (EikonalField::decrease). Returns the number of voxels whose
+/// pressure changed in this call.
 std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>& rate,
-                           const std::vector<std::size_t>& newChannel);
+                           const std::vector<std::size_t>& newChannel,
+                           double limit = std::numeric_limits<double>::infinity());
+
+/// An upper bound of the true pressure of every voxel the next iteration reads: the largest
+/// pressure stored on each active tile when it was first asked (pressure only falls).
+double pressureNeeded(Stage2State& state, const Grid3<double>& pressure);
 
 /// Sources joined to a sink through channel voxels (26-connected through channel, source and
-/// sink voxels), in source order.
+/// sink voxels), in source order. A breadth-first search over the whole grid: the reference for
+/// tests; runStage2 uses the incremental `extendReach`.
 std::vector<bool> connectedSources(const Domain& domain);
 
-/// Step 8: Σ water and the number of channel voxels, with the finite check: non-finite water,
-/// flow or pressure throws RuntimeError naming the iteration, the quantity that went bad first
+/// Marks as reached everything joined to a sink through channel, source and sink voxels, from
+/// scratch (startStage2 calls it once).
+void reachFromSinks(const Domain& domain, Stage2State& state);
+
+/// Incremental connectivity: the conducting voxels only grow, so after `newConducting` joined them
+/// only what a new voxel touches can become reached: a search from each new voxel that touches a
+/// reached one. Returns the sources (in order) with a reached voxel.
+std::vector<bool> extendReach(const Domain& domain, Stage2State& state, const std::vector<std::size_t>& newConducting);
+
+/// Step 8: Σ water (in voxel order, over the active tiles: there is no water elsewhere) and
+/// `state.channelVoxels`, with the finite check on the active tiles: non-finite water, flow or
+/// pressure throws RuntimeError naming the iteration, the quantity that went bad first
 /// (acceptance, incoming water, f_c, water, f_a, pressure, porosity, flow) and its first voxel.
-std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State& state,
-                                         const Grid3<double>& pressure, int iteration);
+std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State& state, const Grid3<double>& pressure,
+                                         int iteration);
 
 /// The pressure rate field of a domain: pRateChannel on channel, protochannel, source and sink
 /// voxels, pRate elsewhere.

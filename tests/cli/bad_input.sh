@@ -24,6 +24,13 @@ sed 's/^at = \[4, 0, 11\]/at = [15, 0, 3]/' good.toml > overlap.toml
 expect_exit 2 "source overlaps sink" -- "$CAVESIM" validate overlap.toml
 stderr_has "overlaps"
 
+# The shipped Figure 12 with its old aim point, inside the sink box: stage 1 keeps rock around sinks.
+sed 's/^aim = .*/aim = [[69, 25, 4], [30, 25, 5]]/' "$SRC/scenarios/fig12.toml" > aim_in_sink.toml
+expect_exit 2 "aim point inside a sink" -- "$CAVESIM" run aim_in_sink.toml --out o7
+stderr_has "aim_in_sink.toml: key 'stage1.aim' point 1 = [69, 25, 4] lies inside [[sink]] entry 1"
+stderr_has "'stage1.sink_gap' = 2"
+[ ! -e o7 ] && pass "no output dir for an aim point in a sink" || fail "o7 was created"
+
 grep -v -e '^\[\[sink\]\]' -e '^box' good.toml > nosink.toml
 expect_exit 2 "stage 2 without sinks" -- "$CAVESIM" run nosink.toml --out o4
 stderr_has "stage 2 needs at least one [[sink]]"
@@ -93,6 +100,14 @@ TOML
 expect_exit 2 "stage 1 larger than the memory limit" -- bash -c "ulimit -v 1000000; exec \"$CAVESIM\" run bigzone.toml --out o11 -q"
 stderr_has "this process may use"
 [ ! -e o11 ] && pass "no output for the refused stage 1" || fail "o11 was created"
+# A block whose whole run would not fit is refused by the pre-flight estimate before any work
+# (10^8 voxels need several GB; the address space is capped at 2 GB); validate prints the estimate.
+sed -e 's/^size = \[128, 128, 128\]/size = [1000, 1000, 100]/' -e 's/^at = \[0, 0, 127\]/at = [0, 0, 99]/' bigzone.toml > huge.toml
+expect_exit 0 "validate prints the estimate" -- "$CAVESIM" validate huge.toml
+grep -q "peak memory about" stdout.txt && pass "estimate printed" || fail "no estimate: $(cat stdout.txt)"
+expect_exit 2 "run larger than the memory limit" -- bash -c "ulimit -v 2000000; exec \"$CAVESIM\" run huge.toml --out o13 -q"
+stderr_has "this process may use"
+[ ! -e o13 ] && pass "no output for the refused run" || fail "o13 was created"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"

@@ -14,8 +14,11 @@ ranges = {k: (float(lo), float(hi)) for k, cat, t, lo, hi in
           if cat == "confined" and t == "2"}
 assert len(ranges) == 4, ranges
 n, m = r["network"], r["morphometry"]
+print(fig, "connected at start", r["stage2"]["connected_at_start"], "axis-aligned share", r["graph_metrics"]["axis_aligned_share"])
 print(fig, "breakthrough", r["stage2"]["breakthrough_iteration"], {k: v for k, v in n.items() if k != "paths"})
 print(fig, {k: round(m[k], 3) for k in ("network_density_opt", "areal_coverage_pct_opt", "porosity_pct_opt", "mean_width_m")})
+# Stage 1 leaves rock between protochannels and sinks: no source starts joined to a sink.
+assert r["stage2"]["connected_at_start"] == 0, r["stage2"]["connected_at_start"]
 assert r["stage2"]["breakthrough_iteration"] is not None
 assert n["sources_connected"] == n["sources_total"]
 if fig == "fig10":

@@ -14,10 +14,17 @@ s2 = r["stage2"]
 assert s2["iterations"] == 30 and len(s2["history"]) == 30
 assert s2["water_balance_rel_error"] < 1e-9, s2["water_balance_rel_error"]
 PY
-for f in cave.obj cave.ply skeleton.json skeleton_nodes.dat skeleton_links.dat report.md images/perspective.png \
-  images/plan.png images/side_xz.png images/side_yz.png images/pressure.png images/flow.png; do
+for f in cave.obj cave.ply skeleton.json skeleton_nodes.dat skeleton_links.dat report.md images/side_xz.png \
+  images/pressure.png images/flow.png images/map_section.png images/map_section.svg \
+  images/map_extended_elevation.png images/map_extended_elevation.svg; do
   [ -s "r/$f" ] && pass "$f written" || fail "$f missing"
 done
+# A 2D section: no plan or perspective pictures, and section measures instead of plan indices.
+for f in images/perspective.png images/plan.png images/side_yz.png images/map_plan.png; do
+  [ ! -e "r/$f" ] && pass "no $f for a section" || fail "$f written for a section"
+done
+grep -q "^## Section measures" r/report.md && pass "section measures" || fail "no section measures in report.md"
+if grep -q "^| areal coverage" r/report.md; then fail "plan indices in a section report"; else pass "no plan indices"; fi
 # `cavesim report DIR` rebuilds the report from the run's files: the same measurements.
 cp r/report.json before.json
 expect_exit 0 "report rebuilds" -- "$CAVESIM" report r

@@ -102,6 +102,47 @@ TEST_P(EikonalStencils, IncrementalDecreaseEqualsFullSolve) {
     }
 }
 
+// Decreases limited to a value (the rest pending) give, where they are final, the same bits as
+// unlimited ones, and after settle() the same bits everywhere.
+// Both queues: a bucket queue (cap 200: 10^4 buckets of the smallest slowness) and a heap (cap
+// 10^9: too many buckets).
+TEST(Eikonal, LimitedDecreaseIsFinalBelowTheLimitAndSettlesToTheSameBits) {
+    for (double cap : {200.0, 1e9}) {
+        const Dims d{24, 18, 10};
+        std::mt19937_64 rng(5);
+        std::uniform_real_distribution<float> u(0.2f, 2.0f);
+        Grid3<float> s(d);
+        for (auto& x : s.data) x = u(rng);
+        const std::vector<Seed> seeds{{d.index(23, 9, 0), 0.0, 0}};
+        EikonalField whole, limited;
+        whole.solve(d, s, seeds, cap, Stencil::kAvalanche26);
+        limited.solve(d, s, seeds, cap, Stencil::kAvalanche26);
+        std::uniform_int_distribution<std::size_t> pick(0, d.count() - 1);
+        for (int round = 0; round < 20; ++round) {
+            std::vector<std::size_t> changed;
+            for (int c = 0; c < 10; ++c) {
+                const std::size_t q = pick(rng);
+                s[q] *= 0.1f;
+                changed.push_back(q);
+            }
+            whole.decrease(s, changed);
+            const double limit = 2.0 + 0.5 * round;
+            limited.decrease(s, changed, limit);
+            for (std::size_t n = 0; n < d.count(); ++n) {
+                if (whole.value()[n] <= limit) ASSERT_EQ(limited.value()[n], whole.value()[n]) << round << " " << n;
+                ASSERT_GE(limited.value()[n], whole.value()[n]);  // elsewhere at most too high
+            }
+        }
+        EXPECT_FALSE(limited.settled());
+        limited.settle(s);
+        EXPECT_TRUE(limited.settled());
+        EXPECT_EQ(limited.value().data, whole.value().data);
+        EikonalField fresh;  // and a full solve with the final slowness gives the same bits
+        fresh.solve(d, s, seeds, cap, Stencil::kAvalanche26);
+        EXPECT_EQ(fresh.value().data, whole.value().data);
+    }
+}
+
 TEST(Eikonal, AvalancheStepsCarryLowValuesAlongADiagonalChannel) {
     // A channel of slowness 0.001 that is only edge-connected (a diagonal staircase in x–z), in rock
     // of slowness 0.05. Face-neighbour fast marching must leave the channel at every step; the

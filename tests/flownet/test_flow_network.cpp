@@ -15,40 +15,52 @@
 namespace cavesim::flownet {
 namespace {
 
-TEST(FlowNetwork, CubeHasEveryFacePairOnceWithConsistentReverses) {
+TEST(FlowNetwork, CubeHasEveryNeighbourPairOnceWithConsistentReverses) {
     const Dims d{3, 3, 3};
     std::mt19937 gen(5);
     std::uniform_real_distribution<float> u(0.01f, 0.5f);
     Grid3<float> R(d);
     for (auto& r : R.data) r = u(gen);
+    for (const LinkStencil links : {LinkStencil::kFace6, LinkStencil::kAll26}) {
+        FlowNetworkOptions o;
+        o.capacityExponent = 1.5;
+        o.links = links;
+        const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), {13}, {0, 26}, o);
+        EXPECT_EQ(net.voxelNodes, 27u);
+        // Face pairs 3 · 3² · 2 = 54; with 26 links also 6 edge directions × 2·2·3 and 4 corner
+        // directions × 2·2·2 (0 and 26 are opposite corners, too far apart to be linked).
+        const std::size_t edges = links == LinkStencil::kFace6 ? 54u : 54u + 72u + 32u;
+        EXPECT_EQ(net.voxelEdgeCount(), edges);
+        EXPECT_EQ(net.arcCount(), 2u * edges + 2u * 1u + 2u * 2u);
+        for (ArcId a = 0; a < net.arcCount(); ++a) {
+            const ArcId b = net.arcReverse[a];
+            ASSERT_LT(b, net.arcCount());
+            EXPECT_EQ(net.arcReverse[b], a);
+            EXPECT_EQ(net.resistance[a], net.resistance[b]);
+            // b leaves the head of a and points back to a's tail.
+            EXPECT_GE(b, net.arcBegin[net.arcTarget[a]]);
+            EXPECT_LT(b, net.arcBegin[net.arcTarget[a] + 1]);
+        }
+        for (std::size_t v = 0; v < 27; ++v) {
+            const Index3 p = d.coord(v);
+            for (ArcId a = net.arcBegin[v]; a < net.arcBegin[v + 1]; ++a) {
+                const NodeId w = net.arcTarget[a];
+                if (w >= net.voxelNodes) continue;
+                const Index3 q = d.coord(w);
+                const int di = std::abs(p.i - q.i), dj = std::abs(p.j - q.j), dk = std::abs(p.k - q.k);
+                EXPECT_EQ(std::max({di, dj, dk}), 1);  // neighbours
+                if (links == LinkStencil::kFace6) EXPECT_EQ(di + dj + dk, 1);
+                const double length = std::sqrt(double(di + dj + dk));
+                const double link = std::pow(double(std::min(R[v], R[w])), 1.5);
+                const bool fromProtosink = v == 0 || v == 26;
+                EXPECT_DOUBLE_EQ(net.capacity[a], fromProtosink ? 0.0 : link / length);  // conductance
+                EXPECT_DOUBLE_EQ(net.resistance[a], length / link);                      // its inverse
+            }
+        }
+    }
     FlowNetworkOptions o;
     o.capacityExponent = 1.5;
     const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), {13}, {0, 26}, o);
-    EXPECT_EQ(net.voxelNodes, 27u);
-    EXPECT_EQ(net.voxelEdgeCount(), 54u);  // 3 · 3² · 2
-    EXPECT_EQ(net.arcCount(), 2u * 54u + 2u * 1u + 2u * 2u);
-    for (ArcId a = 0; a < net.arcCount(); ++a) {
-        const ArcId b = net.arcReverse[a];
-        ASSERT_LT(b, net.arcCount());
-        EXPECT_EQ(net.arcReverse[b], a);
-        EXPECT_EQ(net.resistance[a], net.resistance[b]);
-        // b leaves the head of a and points back to a's tail.
-        EXPECT_GE(b, net.arcBegin[net.arcTarget[a]]);
-        EXPECT_LT(b, net.arcBegin[net.arcTarget[a] + 1]);
-    }
-    for (std::size_t v = 0; v < 27; ++v) {
-        const Index3 p = d.coord(v);
-        for (ArcId a = net.arcBegin[v]; a < net.arcBegin[v + 1]; ++a) {
-            const NodeId w = net.arcTarget[a];
-            if (w >= net.voxelNodes) continue;
-            const Index3 q = d.coord(w);
-            EXPECT_EQ(std::abs(p.i - q.i) + std::abs(p.j - q.j) + std::abs(p.k - q.k), 1);  // face neighbours
-            const double link = std::pow(double(std::min(R[v], R[w])), 1.5);
-            const bool fromProtosink = v == 0 || v == 26;
-            EXPECT_DOUBLE_EQ(net.capacity[a], fromProtosink ? 0.0 : link);
-            EXPECT_DOUBLE_EQ(net.resistance[a], 1.0 / link);
-        }
-    }
     // Terminals: the super-source feeds voxel 13, voxels 0 and 26 drain, both without binding.
     ASSERT_EQ(net.arcBegin[net.source + 1] - net.arcBegin[net.source], 1u);
     EXPECT_EQ(net.arcTarget[net.arcBegin[net.source]], 13u);
@@ -67,7 +79,7 @@ TEST(FlowNetwork, SubsetOfVoxelsLinksOnlyMembersAndSkipsZeroPorosity) {
     std::vector<std::size_t> voxels;
     for (std::size_t v = 0; v < d.count(); ++v)
         if (d.coord(v).i < 3) voxels.push_back(v);  // leave column x = 3 out
-    const FlowNetwork net = buildFlowNetwork(R, voxels, {d.index(0, 0, 0)}, {d.index(2, 0, 2)});
+    const FlowNetwork net = buildFlowNetwork(R, voxels, {d.index(0, 0, 0)}, {d.index(2, 0, 2)}, face6());
     // 3 × 3 block: 12 face pairs, minus the 4 pairs of the impermeable centre.
     EXPECT_EQ(net.voxelEdgeCount(), 8u);
     EXPECT_EQ(nodeOfVoxel(net, d.index(3, 0, 0)), -1);
@@ -77,7 +89,7 @@ TEST(FlowNetwork, SubsetOfVoxelsLinksOnlyMembersAndSkipsZeroPorosity) {
 TEST(FlowNetwork, ResistanceJitterIsBoundedSymmetricAndSeeded) {
     const Dims d{6, 5, 4};
     const Grid3<float> R(d, 0.1f);
-    FlowNetworkOptions o;
+    FlowNetworkOptions o = face6();
     o.resistanceJitter = 0.5;
     o.jitterSeed = 42;
     const FlowNetwork a = buildFlowNetwork(R, allVoxels(d), {0}, {d.count() - 1}, o);
@@ -91,8 +103,8 @@ TEST(FlowNetwork, ResistanceJitterIsBoundedSymmetricAndSeeded) {
     for (std::size_t v = 0; v + 1 < a.voxelNodes; ++v)  // every voxel but the protosink (the last)
         for (ArcId e = a.arcBegin[v]; e < a.arcBegin[v + 1]; ++e) {
             if (a.arcTarget[e] >= a.voxelNodes) continue;
-            EXPECT_GE(a.resistance[e], base);
-            EXPECT_LT(a.resistance[e], 1.5 * base);
+            EXPECT_GE(a.resistance[e], base / std::exp(1.0));  // factor e^(2 · 0.5 · (2u − 1)) in [1/e, e)
+            EXPECT_LT(a.resistance[e], base * std::exp(1.0));
             EXPECT_EQ(a.resistance[e], a.resistance[a.arcReverse[e]]);
             EXPECT_EQ(a.capacity[e], double(0.1f));  // capacity untouched
             distinct.insert(a.resistance[e]);

@@ -106,7 +106,7 @@ TEST(MaxFlow, PointSourceInAPlaneIsCutAtItsFourLinks) {
     const Dims d{5, 1, 5};
     const Grid3<float> R(d, 0.1f);
     const std::size_t src = d.index(2, 0, 2);
-    const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), {src}, outerFaces(d, {src}));
+    const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), {src}, outerFaces(d, {src}), face6());
     for (const auto alg : {MaxFlowAlgorithm::BoykovKolmogorov, MaxFlowAlgorithm::EdmondsKarp}) {
         const MaxFlowResult r = maxFlow(net, alg);
         EXPECT_NEAR(r.value, 0.4, 1e-7);
@@ -129,7 +129,7 @@ TEST(MaxFlow, LowPorositySlabIsTheMinimumCut) {
             src.push_back(d.index(0, j, k));
             snk.push_back(d.index(3, j, k));
         }
-    FlowNetworkOptions o;
+    FlowNetworkOptions o = face6();
     const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), src, snk, o);
     EXPECT_EQ(net.voxelEdgeCount(), 3u * 9u + 4u * 3u * 3u);  // 27 along x, 12 per slice in y–z
     EXPECT_NEAR(maxFlow(net).value, 0.5, 1e-6);
@@ -189,7 +189,7 @@ TEST(MaxFlow, LeastResistanceFollowsAPorousFracture) {
     const std::size_t src = d.index(0, 0, 2);
     std::vector<std::size_t> snk;
     for (int k = 0; k < d.nz; ++k) snk.push_back(d.index(d.nx - 1, 0, k));
-    FlowNetworkOptions o;
+    FlowNetworkOptions o = face6();
     o.protosinkShare = 0.5;
     const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), {src}, snk, o);
     const MaxFlowResult r = leastResistanceMaxFlow(net);
@@ -214,7 +214,7 @@ TEST(MaxFlow, ProtosinkShareCapsTheFlowAndFeedsEveryProtosink) {
         const Index3 p = d.coord(v);
         if (!((p.i == 0 || p.i == 10) && (p.k == 0 || p.k == 10))) snk.push_back(v);
     }
-    FlowNetworkOptions o;
+    FlowNetworkOptions o = face6();
     o.protosinkShare = 0.5;
     const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), {src}, snk, o);
     double cut = 0, sinkCap = 0;
@@ -279,13 +279,13 @@ TEST(MaxFlow, CycleCancellationKeepsValueAndLeavesADag) {
 TEST(MaxFlow, NoSourcesOrNoProtosinksGiveZeroFlow) {
     const Dims d{3, 3, 3};
     const Grid3<float> R(d, 0.1f);
-    EXPECT_EQ(maxFlow(buildFlowNetwork(R, allVoxels(d), {}, {0})).value, 0.0);
-    EXPECT_EQ(leastResistanceMaxFlow(buildFlowNetwork(R, allVoxels(d), {13}, {})).value, 0.0);
+    EXPECT_EQ(maxFlow(buildFlowNetwork(R, allVoxels(d), {}, {0}, face6())).value, 0.0);
+    EXPECT_EQ(leastResistanceMaxFlow(buildFlowNetwork(R, allVoxels(d), {13}, {}, face6())).value, 0.0);
     // Source walled in by porosity 0: no link, no flow.
     Grid3<float> walled(d, 0.0f);
     walled[13] = 0.5f;
     walled[0] = 0.5f;
-    const FlowNetwork net = buildFlowNetwork(walled, allVoxels(d), {13}, {0});
+    const FlowNetwork net = buildFlowNetwork(walled, allVoxels(d), {13}, {0}, face6());
     EXPECT_EQ(net.voxelEdgeCount(), 0u);
     EXPECT_EQ(leastResistanceMaxFlow(net).value, 0.0);
     EXPECT_EQ(maxFlow(net).value, 0.0);

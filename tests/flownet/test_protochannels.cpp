@@ -72,7 +72,7 @@ TEST(Protochannels, ParallelFlowJoinsIntoOneChannel) {
     const Grid3<float> R(d, 0.1f);
     const std::vector<std::size_t> src{d.index(0, 0, 0), d.index(0, 0, 1)};
     const std::vector<std::size_t> snk{d.index(11, 0, 0), d.index(11, 0, 1)};
-    const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), src, snk);
+    const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), src, snk, face6());
     MaxFlowResult r = leastResistanceMaxFlow(net);
     cancelFlowCycles(net, r);
     EXPECT_NEAR(r.value, 0.2, 1e-6);

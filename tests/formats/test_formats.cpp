@@ -357,4 +357,11 @@ TEST_F(FormatsTest, CaveMeshAndVdbExport) {
 }
 
 }  // namespace
+
+TEST(FormatSet, DefaultListMatchesTheScenarioDefault) {
+    EXPECT_EQ(toString(formatSet(OutputOptions{}.formats)), kDefaultFormats);
+    EXPECT_EQ(formatList(parseFormatSet("all")).size(), 8u);
+    EXPECT_EQ(formatSet(formatList(parseFormatSet("svx,glb"))), parseFormatSet("glb,svx"));
+}
+
 }  // namespace cavesim::formats

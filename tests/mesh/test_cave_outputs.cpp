@@ -267,5 +267,18 @@ TEST(CavePictures, SectionDomainsRender) {
     for (const auto& v : views) EXPECT_GT(pixelVariance(v), 100.0);
 }
 
+TEST(CavePictures, SectionsGetOnlyTheSectionView) {
+    Domain d = lChannel(false);
+    d.dims = {30, 1, 12};
+    d.flags = Grid3<std::uint8_t>(d.dims, 0);
+    for (int i = 2; i < 28; ++i) d.flags.at(i, 0, 6) |= kChannel;
+    d.sourceVoxels = {{d.dims.index(1, 0, 6)}};
+    d.sinkVoxels = {{d.dims.index(29, 0, 6)}};
+    const fs::path dir = freshDir("section_pictures");
+    writeCavePictures(makeCave(d, CaveExtent::kChannels), (dir / "images").string(), 256);
+    EXPECT_EQ(countFiles(dir / "images"), 1);
+    EXPECT_TRUE(fs::exists(dir / "images" / "side_xz.png"));
+}
+
 }  // namespace
 }  // namespace cavesim::mesh

@@ -372,6 +372,34 @@ TEST(GraphMetrics, OrientationEntropyOneWhenSpreadEvenlyOverTheBins) {
     EXPECT_NEAR(*computeGraphMetrics(makeSkeleton(p, e)).h_or, 1.0, kTol);
 }
 
+TEST(GraphMetrics, AxisAlignedShareWeighsHorizontalLengthNearTheAxes) {
+    // From the origin: 2 m along +x, 1 m at 4° off −y (aligned), 3 m at 30° (not), 4 m at 6° off +y
+    // (not), 1 m at exactly 5° (aligned: the bound is inclusive) and 5 m straight down (no weight).
+    const auto arm = [](double deg, double len, double dz) {
+        const double a = deg * kPi / 180.0;
+        return std::array<double, 3>{len * std::cos(a), len * std::sin(a), dz};
+    };
+    const Skeleton s = makeSkeleton(
+        {{0, 0, 0}, arm(0, 2, 0), arm(-86, 1, 0.5), arm(30, 3, -1), arm(84, 4, 2), arm(185, 1, 0), {0, 0, -5}},
+        {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {0, 5}, {0, 6}});
+    EXPECT_NEAR(*axisAlignedShare(s), (2.0 + 1.0 + 1.0) / 11.0, kTol);
+    EXPECT_NEAR(*computeGraphMetrics(s).axis_aligned_share, 4.0 / 11.0, kTol);
+    EXPECT_NEAR(*axisAlignedShare(s, 45.0), 1.0, kTol);
+    EXPECT_NEAR(*axisAlignedShare(s, 0.0), 2.0 / 11.0, kTol);
+
+    // Edges spread evenly over all azimuths (1° apart, half a degree off the axes): 40 of 360 aligned.
+    std::vector<std::array<double, 3>> p{{0, 0, 0}};
+    std::vector<std::array<int, 2>> e;
+    for (int k = 0; k < 360; ++k) {
+        p.push_back(arm(0.5 + k, 1.0, 0));
+        e.push_back({0, k + 1});
+    }
+    EXPECT_NEAR(*axisAlignedShare(makeSkeleton(p, e)), 40.0 / 360.0, kTol);
+
+    EXPECT_FALSE(axisAlignedShare(makeSkeleton({{0, 0, 0}, {0, 0, 3}}, {{0, 1}})).has_value());
+    EXPECT_THROW(axisAlignedShare(s, 46.0), InternalError);
+}
+
 TEST(GraphMetrics, OrientationEntropyWeightsByHorizontalLength) {
     // 1 m along azimuth 0°, 3 m along 90° (one edge dips, its horizontal part counts), 2 m straight up.
     const Skeleton s = makeSkeleton({{0, 0, 0}, {0, 1, 0}, {3, 1, 4}, {3, 1, 6}}, {{0, 1}, {1, 2}, {2, 3}});
@@ -429,6 +457,7 @@ TEST(GraphMetrics, JsonHasTheDesignKeysAndNullForUndefined) {
     }
     EXPECT_EQ(keys, (std::vector<std::string>{"k_mean", "r_k", "spl", "cpd", "h_or", "len_mean_m", "cv_len", "h_len",
                                               "tortuosity"}));
+    EXPECT_TRUE(j.contains("axis_aligned_share"));
 }
 
 TEST(GraphMetrics, BadSkeletonThrows) {

@@ -9,9 +9,12 @@
 #include <string>
 
 #include "core/error.h"
+#include "sim/connectivity.h"
 #include "sim/domain.h"
 #include "sim/scenario_io.h"
+#include "sim/simulate.h"
 #include "sim/stage1.h"
+#include "sim/stage2.h"
 
 using namespace cavesim;
 
@@ -40,7 +43,7 @@ std::string header(const std::string& name, int nx, int ny, int nz, int seed = 3
 
 const char* kNoStage2 = "[stage2]\nenabled = false\n";
 
-/// Every protochannel voxel lies in a zone and is joined, face to face through protochannel
+/// Every protochannel voxel lies in a zone and is joined, through 26-neighbour protochannel
 /// voxels of that zone, to a source voxel of that zone.
 void expectTreesInsideZones(const Domain& d) {
     const Dims& D = d.dims;
@@ -55,7 +58,7 @@ void expectTreesInsideZones(const Domain& d) {
         while (!queue.empty()) {
             const Index3 p = D.coord(queue.front());
             queue.pop_front();
-            for (const auto& o : faceNeighbours()) {
+            for (const auto& o : allNeighbours()) {
                 if (!D.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) continue;
                 const std::size_t w = D.index(p.i + o.di, p.j + o.dj, p.k + o.dk);
                 if (reached[w] || d.zone[w] != int(z) || !(d.flags[w] & kProtochannel)) continue;
@@ -191,11 +194,21 @@ TEST(Stage1, ProtochannelsAreTreesInsideTheirZones) {
         EXPECT_GT(s.protosinks, 0);
         EXPECT_LE(s.protosinksWithFlow, s.protosinks);
     }
-    // Sinks are not part of stage 1's networks.
-    long sinkVoxels = 0;
-    for (std::size_t v = 0; v < d.dims.count(); ++v)
-        if ((d.flags[v] & kSink) && d.zone[v] == 1) ++sinkVoxels;
-    EXPECT_EQ(r.result.perZone[1].graphNodes, r.result.perZone[1].voxels - sinkVoxels);
+    // Sinks and the rock within `sink_gap` (2) of them are not part of stage 1's networks.
+    long nearSink = 0;
+    for (std::size_t v = 0; v < d.dims.count(); ++v) {
+        if (d.zone[v] != 1 || (d.flags[v] & kSource)) continue;
+        const Index3 p = d.dims.coord(v);
+        bool near = false;
+        for (const auto& sink : d.sinkVoxels)
+            for (std::size_t w : sink) {
+                const Index3 q = d.dims.coord(w);
+                near = near || std::max({std::abs(p.i - q.i), std::abs(p.j - q.j), std::abs(p.k - q.k)}) <= 2;
+            }
+        nearSink += near;
+    }
+    EXPECT_GT(nearSink, 0);
+    EXPECT_EQ(r.result.perZone[1].graphNodes, r.result.perZone[1].voxels - nearSink);
     expectTreesInsideZones(d);
     // Stage 1 leaves porosity alone; the display erosion is a view: max(R0, 0.35) on
     // protochannels, untouched elsewhere.
@@ -368,6 +381,132 @@ TEST(Stage1, KeysAreValidatedAndRoundTrip) {
     EXPECT_EQ(back.stage1.branchFlow, s.stage1.branchFlow);
     EXPECT_EQ(back.stage1.resistanceNoise, s.stage1.resistanceNoise);
     const Scenario d = parseScenarioString(base, "keys.toml");
-    EXPECT_EQ(d.stage1.boundaryFaces, (std::vector<GridFace>{GridFace::kMinusX, GridFace::kPlusX, GridFace::kMinusY, GridFace::kPlusY, GridFace::kMinusZ}));
+    EXPECT_EQ(d.stage1.boundaryFaces, (std::vector<GridFace>{GridFace::kMinusX, GridFace::kPlusX, GridFace::kMinusY,
+                                                             GridFace::kPlusY, GridFace::kMinusZ}));
     EXPECT_EQ(parseScenarioString(scenarioToToml(d), "e.toml").stage1.boundaryFaces, d.stage1.boundaryFaces);
+}
+
+namespace {
+
+/// A small 3D scenario without planes or rock noise, its x coordinates mirrored when `mx`, its y
+/// coordinates when `my`. Sources of unequal pressure, an obstacle and a sink, all off-centre.
+std::string mirrorScenario(bool mx, bool my, const std::string& stage1Extra = "") {
+    const int nx = 26, ny = 22;
+    const auto X = [&](int x) { return std::to_string(mx ? nx - 1 - x : x); };
+    const auto Y = [&](int y) { return std::to_string(my ? ny - 1 - y : y); };
+    const auto point = [&](int x, int y, int z) { return "[" + X(x) + ", " + Y(y) + ", " + std::to_string(z) + "]"; };
+    const auto box = [&](int x0, int y0, int z0, int x1, int y1, int z1) {
+        return "[[" + std::to_string(mx ? nx - 1 - x1 : x0) + ", " + std::to_string(my ? ny - 1 - y1 : y0) + ", " +
+               std::to_string(z0) + "], [" + std::to_string(mx ? nx - 1 - x0 : x1) + ", " +
+               std::to_string(my ? ny - 1 - y0 : y1) + ", " + std::to_string(z1) + "]]";
+    };
+    return header("mirror", nx, ny, 10, 11) + "[rock]\nporosity = 0.05\nnoise = { amplitude = 0.0 }\n" +
+           "[[rock.sphere]]\ncenter = " + point(13, 9, 4) + "\nradius = 3\ncore_porosity = 0.01\n" +
+           "[[source]]\nat = " + point(3, 4, 9) + "\npressure = 1.0\n" + "[[source]]\nat = " + point(6, 17, 8) +
+           "\npressure = 0.7\n" + "[[sink]]\nbox = " + box(23, 8, 1, 25, 13, 3) + "\n[stage1]\n" + stage1Extra +
+           "[stage2]\niterations = 40\np_rate = 0.5\np_rate_channel = 0.001\n";
+}
+
+/// Expects `b` to be `a` mirrored in x (mx) and/or y (my), voxel for voxel.
+template <typename T>
+void expectMirrored(const Grid3<T>& a, const Grid3<T>& b, bool mx, bool my, const char* what) {
+    ASSERT_EQ(a.dims, b.dims);
+    const Dims& d = a.dims;
+    long differ = 0;
+    for (std::size_t v = 0; v < d.count(); ++v) {
+        Index3 p = d.coord(v);
+        if (mx) p.i = d.nx - 1 - p.i;
+        if (my) p.j = d.ny - 1 - p.j;
+        differ += a[v] != b.at(p.i, p.j, p.k);
+    }
+    EXPECT_EQ(differ, 0) << what << " (mirrored x " << mx << ", y " << my << ")";
+}
+
+}  // namespace
+
+TEST(Stage1, MirroredScenariosGiveMirroredProtochannelsAndCaves) {
+    // Noise off (the rock's; the resistance noise is drawn in each zone's canonical frame, so it
+    // may stay on): mirroring in x, in y or in both mirrors the zones and protochannels of stage
+    // 1 and the porosity and flags after stage 2, voxel for voxel.
+    for (const std::string extra : {std::string(), std::string("protosinks = \"clustered\"\naim = [[20, 3, 2]]\n")}) {
+        const Scenario s0 = parseScenarioString(mirrorScenario(false, false, extra), "test.toml");
+        const Stage1Run plain = runStage1On(s0);
+        const Domain cave = simulate(s0);
+        ASSERT_GT(countFlag(plain.domain, kProtochannel), 20);
+        ASSERT_GT(countFlag(cave, kChannel), 20);
+        for (const auto& [mx, my] : {std::pair{true, false}, std::pair{false, true}, std::pair{true, true}}) {
+            std::string m = extra;
+            if (!m.empty())
+                m = "protosinks = \"clustered\"\naim = [[" + std::to_string(mx ? 5 : 20) + ", " +
+                    std::to_string(my ? 18 : 3) + ", 2]]\n";
+            const Scenario s = parseScenarioString(mirrorScenario(mx, my, m), "test.toml");
+            const Stage1Run mirrored = runStage1On(s);
+            expectMirrored(plain.domain.zone, mirrored.domain.zone, mx, my, "stage-1 zones");
+            expectMirrored(plain.domain.flags, mirrored.domain.flags, mx, my, "stage-1 protochannels");
+            const Domain mirroredCave = simulate(s);
+            expectMirrored(cave.flags, mirroredCave.flags, mx, my, "flags after stage 2");
+            expectMirrored(cave.porosity, mirroredCave.porosity, mx, my, "porosity after stage 2");
+        }
+    }
+}
+
+TEST(Stage1, ProtochannelsKeepTheSinkGapAndNoSourceStartsConnected) {
+    for (int gap : {2, 4}) {
+        Scenario s = parseScenarioString(mirrorScenario(false, false), "test.toml");
+        s.stage1.sinkGap = gap;
+        const Stage1Run r = runStage1On(s);
+        const Dims& d = r.domain.dims;
+        int nearest = 1 << 30;
+        for (std::size_t v = 0; v < d.count(); ++v) {
+            if (!(r.domain.flags[v] & kProtochannel)) continue;
+            const Index3 p = d.coord(v);
+            for (const auto& sink : r.domain.sinkVoxels)
+                for (std::size_t w : sink) {
+                    const Index3 q = d.coord(w);
+                    nearest =
+                        std::min(nearest, std::max({std::abs(p.i - q.i), std::abs(p.j - q.j), std::abs(p.k - q.k)}));
+                }
+        }
+        EXPECT_GT(nearest, gap);
+        EXPECT_LT(nearest, gap + 4) << "the protochannels still grow toward the sink";
+        Domain d2 = r.domain;
+        prepareStage2(d2, s.stage2);
+        EXPECT_EQ(sourcesConnectedAtStart(d2), 0);
+    }
+}
+
+TEST(Stage1, ConnectivityCountsSourcesJoinedThroughPassages) {
+    // A source at x = 0 and a sink at x = 6 on one row: joined once the voxels between are
+    // protochannel or channel (26-neighbours: a diagonal step joins too), not before.
+    Domain d = emptyDomain(Dims{7, 5, 5}, 1.0, 0.05f);
+    d.sourceVoxels = {{d.dims.index(0, 2, 2)}, {d.dims.index(0, 0, 0)}};
+    d.sinkVoxels = {{d.dims.index(6, 2, 2)}};
+    d.flags[d.sourceVoxels[0][0]] |= kSource;
+    d.flags[d.sourceVoxels[1][0]] |= kSource;
+    d.flags[d.sinkVoxels[0][0]] |= kSink;
+    EXPECT_EQ(sourcesConnectedAtStart(d), 0);
+    for (int i = 1; i <= 4; ++i) d.flags.at(i, 2, 2) |= kProtochannel;
+    EXPECT_EQ(sourcesConnectedAtStart(d), 0);
+    d.flags.at(5, 3, 3) |= kChannel;  // diagonal from (4, 2, 2) to the sink
+    EXPECT_EQ(sourcesJoinedThroughPassages(d), (std::vector<bool>{true, false}));
+    EXPECT_EQ(sourcesConnectedAtStart(d), 1);
+}
+
+TEST(Stage1, AimInsideOrNextToASinkIsRefused) {
+    const std::string base = header("aim", 30, 20, 10) +
+                             "[[source]]\nat = [2, 10, 9]\n[[sink]]\nbox = [[27, 8, 2], [29, 12, 4]]\n"
+                             "[stage1]\nprotosinks = \"clustered\"\n";
+    EXPECT_NO_THROW(parseScenarioString(base + "aim = [[24, 10, 3]]\n", "test.toml"));  // 3 voxels off
+    for (const std::string aim : {"[[28, 10, 3]]", "[[25, 10, 3]]", "[[10, 10, 5], [26, 13, 6]]"}) {
+        try {
+            parseScenarioString(base + "aim = " + aim + "\n", "test.toml");
+            ADD_FAILURE() << "aim " << aim << " accepted";
+        } catch (const InputError& e) {
+            const std::string m = e.what();
+            EXPECT_NE(m.find("test.toml"), std::string::npos) << m;
+            EXPECT_NE(m.find("'stage1.aim'"), std::string::npos) << m;
+            EXPECT_NE(m.find("'stage1.sink_gap' = 2"), std::string::npos) << m;
+        }
+    }
+    EXPECT_NO_THROW(parseScenarioString(base + "sink_gap = 1\naim = [[25, 10, 3]]\n", "test.toml"));
 }

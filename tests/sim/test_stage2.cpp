@@ -9,6 +9,7 @@
 #include "sim/domain.h"
 #include "sim/scenario_io.h"
 #include "sim/stage2.h"
+#include "sim/stage2_steps.h"
 
 using namespace cavesim;
 
@@ -186,5 +187,21 @@ TEST(Stage2, InterimResetsStageOneErosionAndOpensSourcesAndSinks) {
                     std::max(d.porosity0.at(10, 0, 15), float(s.stage2.protochannelPorosity)));
     EXPECT_TRUE(d.flags.at(10, 0, 15) & kProtochannel);
     EXPECT_FLOAT_EQ(d.porosity.at(10, 0, 23), float(s.stage2.sourcePorosity));  // source
-    EXPECT_FLOAT_EQ(d.porosity.at(39, 0, 3), 1.f);   // sink
+    EXPECT_FLOAT_EQ(d.porosity.at(39, 0, 3), 1.f);                              // sink
+}
+
+TEST(Stage2, IncrementalConnectivityEqualsTheFullSearchEveryIteration) {
+    Scenario s = parseScenarioString(kTwoChannels, "two.toml");
+    s.stage2.iterations = 200;  // long enough for both sources to connect
+    for (int it = 1; it <= s.stage2.iterations; ++it) s.stage2.snapshots.push_back(it);
+    Domain d = prepared(s);
+    std::vector<int> full;
+    const Stage2Result r = runStage2(d, s.stage2, {}, [&](int, const Domain& dom) {
+        int n = 0;
+        for (bool c : stage2::connectedSources(dom)) n += c ? 1 : 0;
+        full.push_back(n);
+    });
+    ASSERT_EQ(full.size(), r.history.size());
+    for (std::size_t i = 0; i < full.size(); ++i) EXPECT_EQ(full[i], r.history[i].sourcesConnected) << i;
+    EXPECT_EQ(full.back(), 2);
 }

@@ -33,9 +33,14 @@ struct Row3 {
             st.water[v] = W[v];
             P[v] = p[v];
         }
-        std::fill(st.wetRow.begin(), st.wetRow.end(), 1);
+        activateAll(st);
     }
-    double offer(std::size_t v, int di, int dj = 0, int dk = 0) const { return st.offer(slotOf(di, dj, dk))[v]; }
+    double offer(std::size_t v, int di, int dj = 0, int dk = 0) const {
+        return offerOf(dom, P, TransportWeight::kProportional, st, v, slotOf(di, dj, dk));
+    }
+    double at(const std::vector<double>& field, std::size_t v) const { return st.at(field, v); }
+    void accept() { computeAcceptance(dom, P, TransportWeight::kProportional, st); }
+    std::pair<double, double> move() { return moveWater(dom, P, TransportWeight::kProportional, st); }
 };
 
 }  // namespace
@@ -71,7 +76,7 @@ TEST(Stage2Steps, RefillLevelsFollowSourcePressure) {
     EXPECT_NEAR(injected, 0.05 - 0.02, 1e-8);
     EXPECT_NEAR(st.water[0], 0.05, 1e-8);
     EXPECT_EQ(st.water[3], 0.2);
-    EXPECT_EQ(st.wetRow[0], 1);
+    EXPECT_EQ(st.tileWet[0], 1);  // the source tile is active and wet
 }
 
 // Listing 1 on a row: voxel 0 (W 0.4, P 2) has one lower neighbour with free capacity 0.4, so it
@@ -85,16 +90,16 @@ TEST(Stage2Steps, OffersFollowListing1) {
     EXPECT_EQ(r.offer(1, -1), 0.0);
     EXPECT_EQ(r.offer(2, -1), 0.0);
 
-    computeAcceptance(r.dom, r.st);
-    EXPECT_DOUBLE_EQ(r.st.incoming[1], 0.4);
-    EXPECT_DOUBLE_EQ(r.st.accept[1], 1.0);  // free 0.4 ≥ 0.4
-    EXPECT_DOUBLE_EQ(r.st.incoming[2], 0.1);
+    r.accept();
+    EXPECT_DOUBLE_EQ(r.at(r.st.incoming, 1), 0.4);
+    EXPECT_DOUBLE_EQ(r.at(r.st.accept, 1), 1.0);  // free 0.4 ≥ 0.4
+    EXPECT_DOUBLE_EQ(r.at(r.st.incoming, 2), 0.1);
 
-    const auto [moved, drained] = moveWater(r.dom, r.st);
+    const auto [moved, drained] = r.move();
     EXPECT_DOUBLE_EQ(moved, 0.5);
     EXPECT_EQ(drained, 0.0);
-    EXPECT_DOUBLE_EQ(r.st.fc[0], 0.4);
-    EXPECT_DOUBLE_EQ(r.st.fc[1], 0.1);
+    EXPECT_DOUBLE_EQ(r.at(r.st.fc, 0), 0.4);
+    EXPECT_DOUBLE_EQ(r.at(r.st.fc, 1), 0.1);
     EXPECT_DOUBLE_EQ(r.st.water[0], 0.0);
     EXPECT_DOUBLE_EQ(r.st.water[1], 0.4);
     EXPECT_DOUBLE_EQ(r.st.water[2], 0.1);
@@ -107,11 +112,11 @@ TEST(Stage2Steps, OverOfferedReceiverAcceptsTheSameFractionOfEveryOffer) {
     computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
     EXPECT_NEAR(r.offer(0, +1), 0.2, 1e-7);
     EXPECT_NEAR(r.offer(2, -1), 0.2, 1e-7);
-    computeAcceptance(r.dom, r.st);
-    EXPECT_NEAR(r.st.accept[1], 0.5, 1e-6);
-    moveWater(r.dom, r.st);
-    EXPECT_NEAR(r.st.fc[0], 0.1, 1e-7);
-    EXPECT_NEAR(r.st.fc[2], 0.1, 1e-7);
+    r.accept();
+    EXPECT_NEAR(r.at(r.st.accept, 1), 0.5, 1e-6);
+    r.move();
+    EXPECT_NEAR(r.at(r.st.fc, 0), 0.1, 1e-7);
+    EXPECT_NEAR(r.at(r.st.fc, 2), 0.1, 1e-7);
     EXPECT_NEAR(r.st.water[1], 0.3, 1e-7);  // full
     EXPECT_NEAR(r.st.water[0] + r.st.water[1] + r.st.water[2], 1.1, 1e-15);
 }
@@ -129,15 +134,15 @@ TEST(Stage2Steps, ProportionalWeightsDivideByDistance) {
         P.at(0, 1, 0) = 2;
         P.at(1, 1, 0) = 1;
         st.water[d.dims.index(0, 0, 0)] = 0.1;
-        std::fill(st.wetRow.begin(), st.wetRow.end(), 1);
+        activateAll(st);
         computeOffers(d, P, w, st);
         const std::size_t v = d.dims.index(0, 0, 0);
         const double norm = 2 + std::sqrt(2.0);
         const double face = w == TransportWeight::kProportional ? 0.1 / norm : 0.1 / 3;
         const double diag = w == TransportWeight::kProportional ? 0.1 * std::sqrt(2.0) / norm : 0.1 / 3;
-        EXPECT_NEAR(st.offer(slotOf(1, 0, 0))[v], face, 1e-15);
-        EXPECT_NEAR(st.offer(slotOf(0, 1, 0))[v], face, 1e-15);
-        EXPECT_NEAR(st.offer(slotOf(1, 1, 0))[v], diag, 1e-15);
+        EXPECT_NEAR(offerOf(d, P, w, st, v, slotOf(1, 0, 0)), face, 1e-15);
+        EXPECT_NEAR(offerOf(d, P, w, st, v, slotOf(0, 1, 0)), face, 1e-15);
+        EXPECT_NEAR(offerOf(d, P, w, st, v, slotOf(1, 1, 0)), diag, 1e-15);
     }
 }
 
@@ -145,17 +150,17 @@ TEST(Stage2Steps, ProportionalWeightsDivideByDistance) {
 TEST(Stage2Steps, OverFullVoxelWithNothingIncomingAcceptsOne) {
     Row3 r({0.5f, 0.5f, 0.5f}, {0.0, 0.5000000000000001, 0.0}, {0, 0, 0});
     computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
-    computeAcceptance(r.dom, r.st);
-    EXPECT_EQ(r.st.incoming[1], 0.0);
-    EXPECT_EQ(r.st.accept[1], 1.0);
+    r.accept();
+    EXPECT_EQ(r.at(r.st.incoming, 1), 0.0);
+    EXPECT_EQ(r.at(r.st.accept, 1), 1.0);
 }
 
 TEST(Stage2Steps, SinksDrainWhatTheyReceive) {
     Row3 r({0.5f, 1.f, 0.5f}, {0.3, 0.0, 0.0}, {1, 0, 2});
     r.dom.flags[1] |= kSink;
     computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
-    computeAcceptance(r.dom, r.st);
-    const auto [moved, drained] = moveWater(r.dom, r.st);
+    r.accept();
+    const auto [moved, drained] = r.move();
     EXPECT_DOUBLE_EQ(moved, 0.3);
     EXPECT_DOUBLE_EQ(drained, 0.3);
     EXPECT_EQ(r.st.water[1], 0.0);
@@ -167,22 +172,21 @@ TEST(Stage2Steps, SinksDrainWhatTheyReceive) {
 TEST(Stage2Steps, BlendingFollowsEq2) {
     for (FlowBlending b : {FlowBlending::kMax, FlowBlending::kSplit}) {
         Row3 r({0.5f, 0.5f, 0.5f}, {0, 0, 0}, {2, 1, 0});
-        r.st.fc = {0.4, 0.1, 0.0};
-        std::fill(r.st.flowRow.begin(), r.st.flowRow.end(), 1);
+        r.st.ref(r.st.fc, 0) = 0.4;
+        r.st.ref(r.st.fc, 1) = 0.1;
         blendFlow(r.dom, r.P, b, r.st);
-        EXPECT_DOUBLE_EQ(r.st.fa[0], 0.1);
-        EXPECT_EQ(r.st.fa[1], 0.0);
-        EXPECT_EQ(r.st.fa[2], 0.0);
+        EXPECT_DOUBLE_EQ(r.at(r.st.fa, 0), 0.1);
+        EXPECT_EQ(r.at(r.st.fa, 1), 0.0);
+        EXPECT_EQ(r.at(r.st.fa, 2), 0.0);
     }
     // Two uphill neighbours share a voxel's f_c under "split": P = (1, 0, 1), f_c(1) = 0.6.
     Row3 r({0.5f, 0.5f, 0.5f}, {0, 0, 0}, {1, 0, 1});
-    r.st.fc = {0.0, 0.6, 0.0};
-    std::fill(r.st.flowRow.begin(), r.st.flowRow.end(), 1);
+    r.st.ref(r.st.fc, 1) = 0.6;
     blendFlow(r.dom, r.P, FlowBlending::kSplit, r.st);
-    EXPECT_DOUBLE_EQ(r.st.fa[0], 0.3);
-    EXPECT_DOUBLE_EQ(r.st.fa[2], 0.3);
+    EXPECT_DOUBLE_EQ(r.at(r.st.fa, 0), 0.3);
+    EXPECT_DOUBLE_EQ(r.at(r.st.fa, 2), 0.3);
     blendFlow(r.dom, r.P, FlowBlending::kMax, r.st);
-    EXPECT_DOUBLE_EQ(r.st.fa[0], 0.6);
+    EXPECT_DOUBLE_EQ(r.at(r.st.fa, 0), 0.6);
 }
 
 // Eq. 1: f = wa · f_a + f_c = 0.25 · 0.1 + 0.4 = 0.425; ΔR = w0 · f^m = 0.15 · 0.425 (m = 1) on
@@ -194,12 +198,14 @@ TEST(Stage2Steps, ErosionFollowsEq1) {
     d.porosity[2] = 0.45f;
     d.flags[3] |= kSource;
     Stage2State st(d.dims);
-    st.fa = {0.1, 0.1, 0.1, 0.1};
-    st.fc = {0.4, 0.4, 0.4, 0.4};
+    for (std::size_t v = 0; v < 4; ++v) {
+        st.ref(st.fa, v) = 0.1;
+        st.ref(st.fc, v) = 0.4;
+    }
     Stage2Options g;  // w0 0.15, wa 0.25, m 1, threshold 0.5
     Grid3<float> rate = rateField(d, g);
-    std::vector<std::size_t> fresh;
-    const double eroded = erode(d, g, st, rate, fresh);
+    std::vector<std::size_t> fresh, conducting;
+    const double eroded = erode(d, g, st, rate, fresh, conducting);
     EXPECT_FLOAT_EQ(d.porosity[0], float(0.05f + 0.15 * 0.425));
     EXPECT_FLOAT_EQ(d.porosity[1], 1.f);  // capped
     EXPECT_FLOAT_EQ(d.porosity[2], float(0.45f + 0.15 * 0.425));
@@ -211,16 +217,18 @@ TEST(Stage2Steps, ErosionFollowsEq1) {
     EXPECT_TRUE(d.flags[2] & kChannel);
     EXPECT_FALSE(d.flags[0] & kChannel);
     EXPECT_EQ(fresh, (std::vector<std::size_t>{1, 2}));
+    EXPECT_EQ(conducting, (std::vector<std::size_t>{1, 2}));
+    EXPECT_EQ(st.channelVoxels, 2);
     EXPECT_EQ(rate[1], float(g.pRateChannel));
 
     Domain e = emptyDomain(Dims{1, 1, 1}, 1.0, 0.05f);
     g.m = 2.0;
     Grid3<float> rate2 = rateField(e, g);
     Stage2State s2(e.dims);
-    s2.fa = {0.1};
-    s2.fc = {0.4};
+    s2.ref(s2.fa, 0) = 0.1;
+    s2.ref(s2.fc, 0) = 0.4;
     fresh.clear();
-    erode(e, g, s2, rate2, fresh);
+    erode(e, g, s2, rate2, fresh, conducting);
     EXPECT_FLOAT_EQ(e.porosity[0], float(0.05f + 0.15 * 0.425 * 0.425));
 }
 
@@ -250,7 +258,11 @@ TEST(Stage2Steps, BookkeepingCountsAndRefusesNonFiniteWater) {
     Domain d = emptyDomain(Dims{3, 1, 1}, 1.0, 0.05f);
     d.flags[1] |= kChannel;
     Stage2State st(d.dims);
+    Stage2Options g;
+    Grid3<float> rate = rateField(d, g);
+    startStage2(d, g, st, rate);  // counts the channel voxel
     st.water = {0.1, 0.2, 0.3};
+    activateWet(st);
     const Grid3<double> P(d.dims, 1.0);
     const auto [stored, channels] = waterAndChannels(d, st, P, 7);
     EXPECT_DOUBLE_EQ(stored, 0.1 + 0.2 + 0.3);
@@ -279,4 +291,29 @@ TEST(Stage2Steps, SourcesConnectThroughChannelVoxelsOnly) {
     EXPECT_EQ(connectedSources(d), std::vector<bool>{false});
     d.flags[3] |= kChannel;
     EXPECT_EQ(connectedSources(d), std::vector<bool>{true});
+}
+
+// The incremental search: voxels turning channel join the reached set only when they touch it,
+// and a source is connected exactly when the full search says so.
+TEST(Stage2Steps, IncrementalReachEqualsTheFullSearch) {
+    Domain d = emptyDomain(Dims{6, 1, 1}, 1.0, 0.05f);
+    d.flags[0] |= kSource;
+    d.sourceVoxels = {{0}};
+    d.flags[5] |= kSink;
+    d.sinkVoxels = {{5}};
+    Stage2State st(d.dims);
+    reachFromSinks(d, st);
+    EXPECT_EQ(extendReach(d, st, {}), std::vector<bool>{false});
+    // Channels grow from the source side first: nothing new is reached.
+    for (std::size_t v : {1u, 2u}) d.flags[v] |= kChannel;
+    EXPECT_EQ(extendReach(d, st, {1, 2}), std::vector<bool>{false});
+    EXPECT_FALSE(st.reached[2]);
+    d.flags[4] |= kChannel;
+    EXPECT_EQ(extendReach(d, st, {4}), std::vector<bool>{false});
+    EXPECT_TRUE(st.reached[4]);
+    // The last gap closes: the search from voxel 3 reaches the source through 2 and 1.
+    d.flags[3] |= kChannel;
+    EXPECT_EQ(extendReach(d, st, {3}), std::vector<bool>{true});
+    EXPECT_EQ(connectedSources(d), std::vector<bool>{true});
+    for (std::size_t v = 0; v < 6; ++v) EXPECT_TRUE(st.reached[v]) << v;
 }
