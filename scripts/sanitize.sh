@@ -24,6 +24,7 @@ built=$(date +%s)
 echo "sanitize: build $((built - start)) s" >&2
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/scripts/lsan.supp:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 fail=0
 for t in core fastmarch flownet sim render mesh morpho formats app lib; do
