@@ -37,8 +37,11 @@ public:
     using Error::Error;
 };
 
-/// A run stopped early because its caller asked (`api::CancelToken`, or an exception thrown from
-/// the progress callback of a Python run). Never thrown by the command.
+/// The caller asked the operation to stop: `api::CancelToken`, an exception thrown from the progress
+/// callback of a Python run, or the command's progress callback after SIGINT or SIGTERM
+/// (cli/interrupt.h). It is thrown at a safe point (at most one stage-2 iteration late); library
+/// code lets it pass, cleaning up as it unwinds (nothing staged is left behind, the output
+/// directory keeps its previous run). The command exits with 130 (SIGINT) or 143 (SIGTERM).
 class Cancelled : public Error {
 public:
     using Error::Error;

@@ -34,6 +34,8 @@ public:
     void commit();
 
     const std::filesystem::path& target() const { return target_; }
+    /// The staging directory (empty before open()).
+    const std::filesystem::path& staging() const { return staging_; }
 
 private:
     std::filesystem::path target_, staging_;

@@ -103,12 +103,16 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     }
     const std::string statePath = dir.file("state.vdb").string();
     writeState(statePath, dom, s, StateMoment::kFinal);
-    // What `cavesim report` checks before it trusts the file: its bytes and the grid it holds.
     rec.files["state.vdb"] = stateRecord(statePath, s);
+    // What `cavesim report` reads back, and checks before it decodes: its bytes and the grid it holds.
+    const std::string checkedPath = dir.file(kCheckedStateFile).string();
+    writeCheckedState(checkedPath, dom, s);
+    rec.files[kCheckedStateFile] = stateRecord(checkedPath, s);
 
     // The cave, once: every output below describes these voxels.
     const Cave cave = makeCave(dom, s.output.cave);
 
+    reportProgress(progress, "mesh and pictures", 0, 1);  // also a safe point to stop at
     const Stopwatch tm;
     mesh::MeshOptions mo;
     mo.style = s.output.meshStyle;
@@ -128,6 +132,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
             speleo::decorateCave(cave, s.speleothems, dir.file("").string(), width, s.output.images));
     rec.timing.mesh = tm.seconds();
 
+    reportProgress(progress, "report", 0, 1);
     const Stopwatch tr;
     const std::vector<std::optional<int>> connected =
         rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
@@ -138,6 +143,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
 
+    reportProgress(progress, "exports", 0, 1);
     const Stopwatch te;
     formats::ExportInputs exports;
     exports.domain = &dom;
@@ -153,10 +159,10 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     rec.timing.exports = te.seconds();
     rec.timing.total = t0.seconds();
     writeReport(s, dom, rec, dir.file("").string());
-    // The effective scenario also records the state.vdb it produced (a comment, ignored by the
+    // The effective scenario also records the state file it produced (a comment, ignored by the
     // parser), so `cavesim report` can check the file even when report.json is gone.
     writeTextFile(dir.file("scenario.toml"),
-                  scenarioToToml(s) + "# state.vdb: " + rec.files["state.vdb"].dump() + "\n");
+                  scenarioToToml(s) + "# " + kCheckedStateFile + ": " + rec.files[kCheckedStateFile].dump() + "\n");
 
     PipelineResult out;
     if (options.alsoMeasure) {

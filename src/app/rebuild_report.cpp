@@ -53,7 +53,7 @@ std::string rebuildReport(const std::string& dirArg) {
     const fs::path dir(dirArg);
     if (!fs::is_directory(dir))
         throw InputError(dirArg + ": not a directory; give the output directory of a `cavesim run`");
-    for (const char* f : {"scenario.toml", "state.vdb"})
+    for (const char* f : {"scenario.toml", kCheckedStateFile})
         if (!fs::exists(dir / f))
             throw InputError((dir / f).string() + ": missing; `cavesim report` needs the files a run writes");
     const Stopwatch t0;

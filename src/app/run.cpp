@@ -71,6 +71,8 @@ RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbac
                     ", " + std::to_string(threads) + " thread(s)");
     dir.open();
     const PipelineResult result = runPipeline(s, dir, options);
+    // The last safe point: a caller that asked to stop meanwhile gets nothing moved into place.
+    reportProgress(options.progress, "moving results into place", 0, 1);
     dir.commit();
     return RunOutcome{out, result.totalSeconds, result.breakthroughIteration};
 }

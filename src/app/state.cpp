@@ -6,6 +6,8 @@
 #include <new>
 #include <stdexcept>
 
+#include "app/state_file.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/fnv.h"
 #include "mesh/vdb_io.h"
@@ -22,10 +24,10 @@ std::string shortNumber(double v) {
     return buf;
 }
 
-/// The `# state.vdb: {...}` comment a run appends to its scenario.toml, or null.
+/// The `# state.cavesim: {...}` comment a run appends to its scenario.toml, or null.
 nlohmann::json recordedInScenario(const fs::path& scenario) {
     std::ifstream in(scenario);
-    const std::string tag = "# state.vdb: ";
+    const std::string tag = std::string("# ") + kCheckedStateFile + ": ";
     for (std::string line; std::getline(in, line);) {
         if (line.compare(0, tag.size(), tag) != 0) continue;
         if (line.size() > 4096) return nullptr;  // a record is one short line
@@ -59,12 +61,24 @@ Grid3<float> recordedPorosity(const Domain& dom, const Scenario& s, StateMoment 
     return dom.porosity;
 }
 
-void writeState(const std::string& path, const Domain& dom, const Scenario& s, StateMoment moment) {
+namespace {
+
+/// The grids of a state file, in the order they are written.
+struct StateGrids {
+    Grid3<float> porosity;
+    Grid3<std::int32_t> flags;
+    std::vector<mesh::NamedGrid> grids;
+};
+
+void collectGrids(StateGrids& out, const Domain& dom, const Scenario& s, StateMoment moment) {
     const bool stage2 = moment == StateMoment::kFinal && s.stage2.enabled;
-    const Grid3<float> porosity = recordedPorosity(dom, s, moment);
-    Grid3<std::int32_t> flags(dom.dims, 0);
+    out.porosity = recordedPorosity(dom, s, moment);
+    const Grid3<float>& porosity = out.porosity;
+    out.flags = Grid3<std::int32_t>(dom.dims, 0);
+    Grid3<std::int32_t>& flags = out.flags;
     for (std::size_t v = 0; v < flags.size(); ++v) flags[v] = dom.flags[v];
-    std::vector<mesh::NamedGrid> grids{
+    std::vector<mesh::NamedGrid>& grids = out.grids;
+    grids = {
         {"porosity", &porosity, nullptr, "porosity R in [0,1] (water capacity)"},
         {"porosity0", &dom.porosity0, nullptr, "initial porosity"},
         {"zone", nullptr, &dom.zone, "stage-1 pressure zone: source index, -1 none"},
@@ -76,7 +90,38 @@ void writeState(const std::string& path, const Domain& dom, const Scenario& s, S
         grids.push_back({"flow", &dom.flow, nullptr, "stage-2 flow f of the last iteration (Eq. 2)"});
         grids.push_back({"water", &dom.water, nullptr, "stage-2 water contents"});
     }
-    mesh::writeVdb(path, grids, dom.voxelSize, dom.origin);
+}
+
+/// The file's bytes, at most `limit` of them (a state file is never larger).
+std::string readBounded(const std::string& path, std::uint64_t limit) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot be read");
+    std::string bytes;
+    char buf[1 << 16];
+    while (in) {
+        in.read(buf, sizeof buf);
+        bytes.append(buf, std::size_t(in.gcount()));
+        if (bytes.size() > limit)
+            throw InputError(path +
+                             ": larger than any state file of this grid; damaged, or not written by `cavesim run`");
+    }
+    return bytes;
+}
+
+}  // namespace
+
+void writeState(const std::string& path, const Domain& dom, const Scenario& s, StateMoment moment) {
+    StateGrids g;
+    collectGrids(g, dom, s, moment);
+    mesh::writeVdb(path, g.grids, dom.voxelSize, dom.origin);
+}
+
+void writeCheckedState(const std::string& path, const Domain& dom, const Scenario& s) {
+    StateGrids g;
+    collectGrids(g, dom, s, StateMoment::kFinal);
+    std::vector<StateGridRef> refs;
+    for (const mesh::NamedGrid& n : g.grids) refs.push_back({n.name, n.floats, n.ints});
+    writeFileAtomic(path, encodeState(dom.dims, dom.voxelSize, refs));
 }
 
 nlohmann::json fileFingerprint(const std::string& path) {
@@ -102,56 +147,71 @@ nlohmann::json stateRecord(const std::string& path, const Scenario& s) {
 }
 
 Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& report) {
-    const std::string vdb = (dir / "state.vdb").string();
-    // OpenVDB does not survive a damaged file: the run recorded the file's size, checksum and grid
-    // in report.json and in the last line of scenario.toml; without a record the file is not read.
+    const std::string file = (dir / kCheckedStateFile).string();
+    // The run recorded the file's size, checksum and grid in report.json and in the last line of
+    // scenario.toml; a file that does not match its record is refused before it is decoded.
     std::error_code ec;
-    if (!fs::is_regular_file(vdb, ec))
-        throw InputError(vdb + ": not a regular file; `cavesim report` needs the run's state.vdb");
+    if (!fs::is_regular_file(file, ec))
+        throw InputError(file + ": not a regular file; `cavesim report` needs the run's " + kCheckedStateFile);
     const auto usable = [](const nlohmann::json& r) {
         return r.is_object() && r.contains("bytes") && r["bytes"].is_number_unsigned() && r.contains("fnv1a64") &&
                r["fnv1a64"].is_string() && r.contains("grid") && r["grid"].is_array() && r["grid"].size() == 3 &&
                r.contains("voxel_size_m") && r["voxel_size_m"].is_number();
     };
     nlohmann::json then;
-    if (report.contains("files") && report["files"].is_object() && report["files"].contains("state.vdb"))
-        then = report["files"]["state.vdb"];
+    if (report.contains("files") && report["files"].is_object() && report["files"].contains(kCheckedStateFile))
+        then = report["files"][kCheckedStateFile];
     if (!usable(then)) then = recordedInScenario(dir / "scenario.toml");
     if (!usable(then))
-        throw InputError(vdb +
+        throw InputError(file +
                          ": no usable record of it (report.json `files` and the last line of scenario.toml "
                          "are missing or damaged), so it cannot be checked before reading; rerun `cavesim run`");
-    const nlohmann::json now = fileFingerprint(vdb);
+    const nlohmann::json now = fileFingerprint(file);
     if (now["bytes"] != then["bytes"] || now["fnv1a64"] != then["fnv1a64"])
-        throw InputError(vdb + ": changed since the run wrote it (now " + now.dump() + ", the run recorded " +
+        throw InputError(file + ": changed since the run wrote it (now " + now.dump() + ", the run recorded " +
                          then.dump() + "); rerun `cavesim run`");
     if (then["grid"] != nlohmann::json{s.size[0], s.size[1], s.size[2]} || then["voxel_size_m"] != s.voxelSize)
         throw InputError((dir / "scenario.toml").string() + ": describes a grid of " + std::to_string(s.size[0]) +
                          " x " + std::to_string(s.size[1]) + " x " + std::to_string(s.size[2]) + " voxels of " +
-                         shortNumber(s.voxelSize) + " m, but the run's state.vdb holds " + then["grid"].dump() +
-                         " of " + then["voxel_size_m"].dump() + " m: the scenario was edited; rerun `cavesim run`");
+                         shortNumber(s.voxelSize) + " m, but the run's " + kCheckedStateFile + " holds " +
+                         then["grid"].dump() + " of " + then["voxel_size_m"].dump() +
+                         " m: the scenario was edited; rerun `cavesim run`");
     Domain dom = emptyDomain(Dims{s.size[0], s.size[1], s.size[2]}, s.voxelSize, 0.f);
     dom.origin = {s.site.origin[0], s.site.origin[1], s.site.origin[2]};
     placeTerminals(dom, s);
+    // No state file is larger than its grids stored uncompressed (zlib adds 0.1 % at worst) plus headers.
+    const std::uint64_t limit = std::uint64_t(kMaxStateGrids) * (dom.dims.count() * 4 * 1002 / 1000 + 4096) + 4096;
+    StateContents read;
     try {
-        dom.porosity = mesh::readVdbFloat(vdb, "porosity", dom.dims);
-        dom.porosity0 = mesh::readVdbFloat(vdb, "porosity0", dom.dims);
-        dom.zone = mesh::readVdbInt(vdb, "zone", dom.dims);
-        const Grid3<std::int32_t> flags = mesh::readVdbInt(vdb, "flags", dom.dims);
-        checkGrid(flags, vdb, "flags", "flags are 0-255", [](std::int32_t f) { return f >= 0 && f <= 255; });
-        for (std::size_t v = 0; v < flags.size(); ++v) dom.flags[v] = std::uint8_t(flags[v]);
-        if (s.stage2.enabled) {
-            dom.pressure = mesh::readVdbFloat(vdb, "pressure", dom.dims);
-            dom.flow = mesh::readVdbFloat(vdb, "flow", dom.dims);
-            dom.water = mesh::readVdbFloat(vdb, "water", dom.dims);
-        }
-    } catch (const InputError&) {
-        throw;
+        read = decodeState(readBounded(file, limit), file, dom.dims);
     } catch (const std::bad_alloc&) {
-        throw InputError(vdb + ": cannot be read (it asks for more memory than there is): the file is damaged");
-    } catch (const std::exception& e) {
-        throw InputError(vdb + ": cannot be read (" + e.what() + "): damaged, or not written by `cavesim run`");
+        throw InputError(file + ": cannot be read (it asks for more memory than there is)");
     }
+    if (read.voxelSize != s.voxelSize)
+        throw InputError(file + ": holds voxels of " + shortNumber(read.voxelSize) + " m where the scenario says " +
+                         shortNumber(s.voxelSize) + " m; rerun `cavesim run`");
+    const auto take = [&](const char* name, bool isFloat) -> StateGrid& {
+        for (StateGrid& g : read.grids)
+            if (g.name == name) {
+                if (g.isFloat != isFloat)
+                    throw InputError(file + ": grid '" + name +
+                                     "' has the wrong type; damaged, or not written by `cavesim run`");
+                return g;
+            }
+        throw InputError(file + ": has no grid '" + name + "'; damaged, or not written by `cavesim run`");
+    };
+    dom.porosity = std::move(take("porosity", true).floats);
+    dom.porosity0 = std::move(take("porosity0", true).floats);
+    dom.zone = std::move(take("zone", false).ints);
+    const Grid3<std::int32_t> flags = std::move(take("flags", false).ints);
+    checkGrid(flags, file, "flags", "flags are 0-255", [](std::int32_t f) { return f >= 0 && f <= 255; });
+    for (std::size_t v = 0; v < flags.size(); ++v) dom.flags[v] = std::uint8_t(flags[v]);
+    if (s.stage2.enabled) {
+        dom.pressure = std::move(take("pressure", true).floats);
+        dom.flow = std::move(take("flow", true).floats);
+        dom.water = std::move(take("water", true).floats);
+    }
+    const std::string& vdb = file;
     const auto unit = [](float r) { return r >= 0.f && r <= 1.f; };  // false for NaN
     const auto nonNegative = [](float r) { return std::isfinite(r) && r >= 0.f; };
     checkGrid(dom.porosity, vdb, "porosity", "porosity is in [0, 1]", unit);

@@ -28,21 +28,27 @@ enum class StateMoment {
 /// @throw RuntimeError when the file cannot be written
 void writeState(const std::string& path, const Domain& domain, const Scenario& scenario, StateMoment moment);
 
+/// The file `cavesim report` reads back: the final state in our own checked format (app/state_file.h).
+inline constexpr const char* kCheckedStateFile = "state.cavesim";
+
+/// Writes the final state of `domain` (the grids of state.vdb) to `path` in the checked format.
+/// @throw RuntimeError when the file cannot be written
+void writeCheckedState(const std::string& path, const Domain& domain, const Scenario& scenario);
+
 /// The porosity a state file records for `moment` (see writeState).
 Grid3<float> recordedPorosity(const Domain& domain, const Scenario& scenario, StateMoment moment);
 
 /// Size and FNV-1a 64 checksum of a file's bytes, {"bytes": n, "fnv1a64": "hex"}: the record
-/// `loadState` checks state.vdb against before handing the file to OpenVDB, which does not survive
-/// damage.
+/// `loadState` checks state.cavesim against before it decodes the file.
 /// @throw RuntimeError if the file cannot be read
 nlohmann::json fileFingerprint(const std::string& path);
 
-/// The record of a run's state.vdb: its fingerprint, grid and voxel size.
+/// The record of a run's state file: its fingerprint, grid and voxel size.
 nlohmann::json stateRecord(const std::string& path, const Scenario& scenario);
 
-/// A run's final domain as `run` wrote it: grids from dir/state.vdb (checked against the record in
-/// `report` or in the last line of dir/scenario.toml first, then range-checked), sources and sinks
-/// from the scenario.
+/// A run's final domain as `run` wrote it: grids from dir/state.cavesim (checked against the record
+/// in `report` or in the last line of dir/scenario.toml first, then decoded with every size and
+/// checksum checked, then range-checked), sources and sinks from the scenario. state.vdb is not read.
 /// @throw InputError when the file is missing, changed, damaged or does not match the scenario
 Domain loadState(const std::filesystem::path& dir, const Scenario& scenario, const nlohmann::json& report);
 

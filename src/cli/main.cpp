@@ -8,6 +8,7 @@
 
 #include "app/commands.h"
 #include "app/ensemble.h"
+#include "cli/interrupt.h"
 #include "cli/progress_bar.h"
 #include "core/error.h"
 #include "sim/parameters.h"
@@ -90,11 +91,16 @@ int main(int argc, char** argv) {
             if (!meshNormals.empty())
                 run.meshNormals = meshNormals == "inward" ? MeshNormals::kInward : MeshNormals::kOutward;
             cli::ProgressBar bar(quiet);
+            cli::installStopHandlers();  // the callbacks below are the run's safe points
             app::PipelineOptions callbacks;
             callbacks.progress = [&bar](const std::string& phase, long done, long total) {
+                cli::throwIfStopped();
                 bar.update(phase, done, total);
             };
-            callbacks.log = [&bar](const std::string& message) { bar.log(message); };
+            callbacks.log = [&bar](const std::string& message) {
+                cli::throwIfStopped();
+                bar.log(message);
+            };
             const app::RunOutcome done = app::runScenario(run, callbacks);
             bar.log("wrote " + done.out.string() + " in " + std::to_string(done.seconds).substr(0, 5) + " s" +
                     (done.breakthroughIteration
@@ -132,6 +138,9 @@ int main(int argc, char** argv) {
             app::reproduce(repro, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
             return 0;
         }
+    } catch (const Cancelled& e) {
+        std::fprintf(stderr, "\ncavesim: interrupted by %s: stopped, the unfinished output was removed\n", e.what());
+        return 128 + cli::stopSignal();
     } catch (const InputError& e) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());
         return 2;

@@ -8,7 +8,9 @@
 namespace cavesim {
 
 /// Called by long operations: `phase` names the work, `done` of `total` units are finished.
-/// May be empty. Library code never prints.
+/// May be empty. Library code never prints. Every call is a safe point: the callback may throw
+/// `Cancelled` (core/error.h) to stop the operation there, and library code must then unwind
+/// without leaving anything half-written (destructors clean up; nothing catches it on the way).
 using ProgressFn = std::function<void(const std::string& phase, long done, long total)>;
 
 inline void reportProgress(const ProgressFn& fn, const std::string& phase, long done, long total) {

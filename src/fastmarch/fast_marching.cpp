@@ -138,7 +138,8 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
         }
     };
     while (!heap.empty() && heap.bound() <= limit) {
-        const auto [v, q] = heap.top();
+        const double v = heap.top().first;  // named, not bound: the lambda below captures it (C++17)
+        const std::size_t q = heap.top().second;
         heap.pop();
         if (v != value[q]) continue;  // stale entry
         const Index3 p = d.coord(q);

@@ -8,7 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <system_error>
+
+#include "core/atomic_file.h"
 
 #include "core/check.h"
 #include "mesh/cave_mesh.h"
@@ -137,26 +140,19 @@ void checkExtension(const std::string& path) {
     CAVESIM_CHECK(ext == ".obj" || ext == ".ply", "cannot write mesh " + path + ": the name must end in .obj or .ply");
 }
 
-// Writes under a temporary name with the same extension (OpenMesh picks the writer by it), then
-// renames. OBJ as text with 8 significant digits (the points are single precision), PLY binary.
+// Encodes in memory with the writer for the extension, then writes with every write checked, synced
+// and renamed into place (core/atomic_file.h). OBJ as text with 8 significant digits (the points are
+// single precision), PLY binary.
 void writeOne(const OmMesh& m, const std::string& path) {
     const std::string ext = lowerExtension(path);
     OpenMesh::IO::Options options(OpenMesh::IO::Options::VertexNormal);
     if (ext == ".ply") options += OpenMesh::IO::Options::Binary;
-    const std::filesystem::path target(path);
-    const std::filesystem::path temp = target.parent_path() / ("." + target.stem().string() + ".partial" + ext);
     silenceOpenMesh();
-    if (!OpenMesh::IO::write_mesh(m, temp.string(), options, 8)) {
-        std::error_code ec;
-        std::filesystem::remove(temp, ec);
-        throw RuntimeError("cannot write mesh " + path);
-    }
-    std::error_code ec;
-    std::filesystem::rename(temp, target, ec);
-    if (ec) {
-        std::filesystem::remove(temp, ec);
-        throw RuntimeError("cannot write mesh " + path + ": " + ec.message());
-    }
+    std::ostringstream out(std::ios::out | std::ios::binary);
+    out << std::fixed;  // as OpenMesh's writer to a named file sets it
+    if (!OpenMesh::IO::write_mesh(m, out, ext, options, 8) || !out)
+        throw RuntimeError("cannot write mesh " + path + ": OpenMesh could not encode it");
+    writeFileAtomic(path, out.str());
 }
 
 }  // namespace

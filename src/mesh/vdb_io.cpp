@@ -8,9 +8,10 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/LevelSetRebuild.h>
 
-#include <unistd.h>
-#include <filesystem>
+#include <sstream>
+#include <string>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/fnv.h"
 #include "mesh/cave_level_set.h"
@@ -64,16 +65,25 @@ Grid3<T> gridToDense(const std::string& path, const std::string& name, const Dim
     return out;
 }
 
+/// OpenVDB's archive writer, into memory: the bytes `io::File::write` would put in a file (the same
+/// seekable layout), so that the one checked writer (core/atomic_file.h) puts them on disk.
+class MemoryArchive : public openvdb::io::Archive {
+public:
+    std::string bytes(const openvdb::GridPtrVec& grids) const {
+        std::ostringstream out(std::ios::out | std::ios::binary);
+        openvdb::io::Archive::write(out, grids, /*seekable=*/true);
+        if (!out) throw RuntimeError("OpenVDB could not encode the grids");
+        return out.str();
+    }
+};
+
 /// OpenVDB stamps every file with a random UUID, so two runs of the same scenario would write
 /// different bytes. The UUID is the 36 characters after the header's magic number, three version
 /// numbers and a flag (byte 21 on). It is replaced by one derived from the rest of the file: the
 /// same grids give the same file, and different contents still get different tags. A header that
 /// does not look as expected is left alone.
-void makeUuidDeterministic(const std::string& path) {
+void makeUuidDeterministic(std::string& bytes) {
     constexpr std::size_t kAt = 21, kLen = 36;
-    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-    if (!f) return;
-    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     if (bytes.size() < kAt + kLen) return;
     for (std::size_t c = 0; c < kLen; ++c) {
         const char ch = bytes[kAt + c];
@@ -97,9 +107,19 @@ void makeUuidDeterministic(const std::string& path) {
                   static_cast<unsigned long long>(h[0] & 0xfff),
                   static_cast<unsigned long long>(0x8000 | ((h[1] >> 48) & 0x3fff)),
                   static_cast<unsigned long long>(h[1] & 0xffffffffffffull));
-    f.clear();
-    f.seekp(std::streamoff(kAt));
-    f.write(uuid, std::streamsize(kLen));
+    bytes.replace(kAt, kLen, uuid, kLen);
+}
+
+/// Encodes `grids` and writes them to `path` with every write checked, synced and renamed into place.
+void writeGridsFile(const std::string& path, const openvdb::GridPtrVec& grids) {
+    std::string bytes;
+    try {
+        bytes = MemoryArchive().bytes(grids);
+    } catch (const std::exception& e) {
+        throw RuntimeError("cannot write " + path + ": " + e.what());
+    }
+    makeUuidDeterministic(bytes);
+    writeFileAtomic(path, bytes);
 }
 
 }  // namespace
@@ -121,14 +141,7 @@ void writeVdb(const std::string& path, const std::vector<NamedGrid>& grids, doub
         if (!ng.description.empty()) g->insertMeta("description", openvdb::StringMetadata(ng.description));
         out.push_back(g);
     }
-    try {
-        openvdb::io::File file(path);
-        file.write(out);
-        file.close();
-    } catch (const openvdb::Exception& e) {
-        throw RuntimeError("cannot write " + path + ": " + e.what());
-    }
-    makeUuidDeterministic(path);
+    writeGridsFile(path, out);
 }
 
 Grid3<float> readVdbFloat(const std::string& path, const std::string& name, const Dims& dims) {
@@ -181,26 +194,7 @@ void writeExportVdb(const std::string& path, const Domain& domain, const Cave& c
         add(cave, "cave", "cave surface (as cave.obj): signed distance, negative inside the cave", "m");
     }
 
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    const fs::path temp =
-        target.parent_path() / ("." + target.filename().string() + ".partial-" + std::to_string(::getpid()));
-    std::error_code ec;
-    try {
-        openvdb::io::File file(temp.string());
-        file.write(out);
-        file.close();
-    } catch (const std::exception& e) {
-        fs::remove(temp, ec);
-        throw RuntimeError("cannot write " + path + ": " + e.what());
-    }
-    makeUuidDeterministic(temp.string());
-    fs::rename(temp, target, ec);
-    if (ec) {
-        const std::string why = ec.message();
-        fs::remove(temp, ec);
-        throw RuntimeError("cannot write " + path + ": " + why);
-    }
+    writeGridsFile(path, out);
 }
 
 }  // namespace cavesim::mesh

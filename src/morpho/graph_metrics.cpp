@@ -238,22 +238,25 @@ std::optional<double> axisShareOf(const Skeleton& s, const std::vector<std::arra
 
 /// What one breadth-first search per source gives on an unweighted graph (Brandes 2001).
 struct AllPairs {
-    std::vector<long long> distanceSum;  ///< per source: Σ hop distances to the nodes it reaches
-    std::vector<double> dependency;      ///< per node: Σ over sources s of δ_s(v) (= 2 × betweenness, undirected)
+    std::vector<long long>
+        distanceSum;  ///< per source (index into the sources): Σ hop distances to the nodes it reaches
+    std::vector<double>
+        dependency;  ///< per node: Σ over sources s of weight_s · δ_s(v) (= 2 × betweenness, undirected, when exact)
 };
 
-/// Brandes' betweenness and the hop-distance sums in one pass: for each source a BFS counting
-/// shortest paths (σ), then the dependencies δ accumulated in reverse BFS order. Predecessors are
-/// the neighbours one hop closer, so no lists are stored. Sources are split into blocks fixed by n
-/// alone, each block accumulates into its own vector and the blocks are summed in order: the result
-/// does not depend on the number of threads.
-AllPairs allPairs(const Adjacency& adj, int n) {
+/// Brandes' betweenness and the hop-distance sums in one pass: for each of `sources` a BFS counting
+/// shortest paths (σ), then the dependencies δ accumulated in reverse BFS order, times the source's
+/// weight. Predecessors are the neighbours one hop closer, so no lists are stored. Sources are split
+/// into blocks fixed by their number alone, each block accumulates into its own vector and the
+/// blocks are summed in order: the result does not depend on the number of threads.
+AllPairs allPairs(const Adjacency& adj, int n, const std::vector<int>& sources, const std::vector<double>& weight) {
     AllPairs out;
-    out.distanceSum.assign(std::size_t(n), 0);
+    const int count = int(sources.size());
+    out.distanceSum.assign(std::size_t(count), 0);
     out.dependency.assign(std::size_t(n), 0.0);
-    if (n == 0) return out;
-    const int blockSize = std::max(32, (n + 63) / 64);  // ≤ 64 partial vectors
-    const int blocks = (n + blockSize - 1) / blockSize;
+    if (n == 0 || count == 0) return out;
+    const int blockSize = std::max(32, (count + 63) / 64);  // ≤ 64 partial vectors
+    const int blocks = (count + blockSize - 1) / blockSize;
     std::vector<std::vector<double>> partial(static_cast<std::size_t>(blocks));
     tbb::parallel_for(tbb::blocked_range<int>(0, blocks), [&](const tbb::blocked_range<int>& range) {
         std::vector<int> dist(std::size_t(n), -1), order;
@@ -262,7 +265,9 @@ AllPairs allPairs(const Adjacency& adj, int n) {
         for (int b = range.begin(); b != range.end(); ++b) {
             std::vector<double>& acc = partial[std::size_t(b)];
             acc.assign(std::size_t(n), 0.0);
-            for (int s = b * blockSize; s < std::min(n, (b + 1) * blockSize); ++s) {
+            for (int si = b * blockSize; si < std::min(count, (b + 1) * blockSize); ++si) {
+                const int s = sources[std::size_t(si)];
+                const double w = weight[std::size_t(si)];
                 order.assign(1, s);
                 dist[std::size_t(s)] = 0;
                 sigma[std::size_t(s)] = 1.0;
@@ -272,24 +277,24 @@ AllPairs allPairs(const Adjacency& adj, int n) {
                     const int dv = dist[std::size_t(v)];
                     sum += dv;
                     for (int p = adj.offset[std::size_t(v)]; p < adj.offset[std::size_t(v) + 1]; ++p) {
-                        const int w = adj.neighbour[std::size_t(p)];
-                        if (dist[std::size_t(w)] < 0) {
-                            dist[std::size_t(w)] = dv + 1;
-                            order.push_back(w);
+                        const int x = adj.neighbour[std::size_t(p)];
+                        if (dist[std::size_t(x)] < 0) {
+                            dist[std::size_t(x)] = dv + 1;
+                            order.push_back(x);
                         }
-                        if (dist[std::size_t(w)] == dv + 1) sigma[std::size_t(w)] += sigma[std::size_t(v)];
+                        if (dist[std::size_t(x)] == dv + 1) sigma[std::size_t(x)] += sigma[std::size_t(v)];
                     }
                 }
-                out.distanceSum[std::size_t(s)] = sum;
+                out.distanceSum[std::size_t(si)] = sum;
                 for (std::size_t idx = order.size(); idx-- > 1;) {
-                    const int w = order[idx];
-                    const double share = (1.0 + delta[std::size_t(w)]) / sigma[std::size_t(w)];
-                    for (int p = adj.offset[std::size_t(w)]; p < adj.offset[std::size_t(w) + 1]; ++p) {
+                    const int x = order[idx];
+                    const double share = (1.0 + delta[std::size_t(x)]) / sigma[std::size_t(x)];
+                    for (int p = adj.offset[std::size_t(x)]; p < adj.offset[std::size_t(x) + 1]; ++p) {
                         const int v = adj.neighbour[std::size_t(p)];
-                        if (dist[std::size_t(v)] == dist[std::size_t(w)] - 1)
+                        if (dist[std::size_t(v)] == dist[std::size_t(x)] - 1)
                             delta[std::size_t(v)] += sigma[std::size_t(v)] * share;
                     }
-                    acc[std::size_t(w)] += delta[std::size_t(w)];
+                    acc[std::size_t(x)] += w * delta[std::size_t(x)];  // w is 1 when exact: the same sum
                 }
                 for (int v : order) {
                     dist[std::size_t(v)] = -1;
@@ -302,6 +307,31 @@ AllPairs allPairs(const Adjacency& adj, int n) {
     for (const auto& acc : partial)
         for (int v = 0; v < n; ++v) out.dependency[std::size_t(v)] += acc[std::size_t(v)];
     return out;
+}
+
+/// The BFS sources of `allPairs` and their weights: every node (weight 1) up to kExactPairsNodes
+/// nodes; beyond, per component c of n_c nodes, k_c = ⌈kPairSources · n_c / n⌉ nodes evenly spaced
+/// in index order (all of them when n_c ≤ k_c), each weighted n_c / k_c (Brandes & Pich 2007).
+void pairSources(const std::vector<int>& label, int components, std::vector<int>& sources,
+                 std::vector<double>& weight) {
+    const int n = int(label.size());
+    sources.clear();
+    weight.clear();
+    if (n <= kExactPairsNodes) {
+        for (int v = 0; v < n; ++v) sources.push_back(v);
+        weight.assign(std::size_t(n), 1.0);
+        return;
+    }
+    std::vector<std::vector<int>> members(static_cast<std::size_t>(components));
+    for (int v = 0; v < n; ++v) members[std::size_t(label[std::size_t(v)])].push_back(v);
+    for (const auto& m : members) {
+        const long long nc = static_cast<long long>(m.size());
+        const long long kc = std::min(nc, (static_cast<long long>(kPairSources) * nc + n - 1) / n);
+        for (long long i = 0; i < kc; ++i) {
+            sources.push_back(m[std::size_t(i * nc / kc)]);
+            weight.push_back(double(nc) / double(kc));
+        }
+    }
 }
 
 /// Freeman's central point dominance from the summed dependencies (each unordered pair counted
@@ -397,15 +427,28 @@ GraphMetrics metricsOf(const Skeleton& s) {
     const int rcomp = labelComponents(radj, rn, rlabel);
     std::vector<long long> size(std::size_t(rcomp), 0);
     for (int v = 0; v < rn; ++v) ++size[std::size_t(rlabel[std::size_t(v)])];
-    const AllPairs all = allPairs(radj, rn);
+    std::vector<int> sources;
+    std::vector<double> sourceWeight;
+    pairSources(rlabel, rcomp, sources, sourceWeight);
+    m.pair_sources = long(sources.size());
+    const AllPairs all = allPairs(radj, rn, sources, sourceWeight);
+    // Σ over a component's sources of their distance sums: exact integers when every node is a
+    // source, else each sampled source stands for n_c / k_c of them.
     std::vector<long long> sums(std::size_t(rcomp), 0);
-    for (int v = 0; v < rn; ++v) sums[std::size_t(rlabel[std::size_t(v)])] += all.distanceSum[std::size_t(v)];
+    std::vector<double> estimated(std::size_t(rcomp), 0.0);
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        const int c = rlabel[std::size_t(sources[i])];
+        sums[std::size_t(c)] += all.distanceSum[i];
+        estimated[std::size_t(c)] += sourceWeight[i] * double(all.distanceSum[i]);
+    }
+    const bool exact = int(sources.size()) == rn;
     double weighted = 0.0;
     long long weight = 0;
     for (int c = 0; c < rcomp; ++c) {
         const long long nc = size[std::size_t(c)];
         if (nc < 2) continue;
-        weighted += double(sums[std::size_t(c)]) / double(nc - 1);  // n_c · spl_c
+        const double total = exact ? double(sums[std::size_t(c)]) : estimated[std::size_t(c)];
+        weighted += total / double(nc - 1);  // n_c · spl_c
         weight += nc;
     }
     if (weight > 0) m.spl = weighted / double(weight);
@@ -489,6 +532,7 @@ nlohmann::json toJson(const GraphMetrics& m) {
     j["components"] = m.components;
     j["reduced_nodes"] = m.reduced_nodes;
     j["reduced_edges"] = m.reduced_edges;
+    j["pair_sources"] = m.pair_sources;
     return j;
 }
 

@@ -45,6 +45,8 @@
 ///    networkx (karstnet); the betweenness itself is computed here by Brandes' algorithm on a
 ///    compressed adjacency, fused with the BFS of `spl` and parallel over sources (Boost's
 ///    brandes_betweenness_centrality takes seconds on 5,000 junctions); the tests check it against Boost.
+///  - `spl` and `cpd` of a reduced graph of more than kExactPairsNodes nodes are estimates from a
+///    fixed sample of BFS sources (see kPairSources; `pair_sources` says how many were used).
 #pragma once
 
 #include <array>
@@ -79,7 +81,17 @@ struct GraphMetrics {
     long components = 0;     ///< connected components of the skeleton (isolated nodes included)
     long reduced_nodes = 0;  ///< nodes of the reduced graph
     long reduced_edges = 0;  ///< edges of the reduced graph
+    /// Breadth-first searches behind `spl` and `cpd`: `reduced_nodes` when they are exact, fewer
+    /// (about kPairSources) when they are estimated from a sample of sources.
+    long pair_sources = 0;
 };
+
+/// Up to this many reduced nodes `spl` and `cpd` are exact (one BFS per node, O(n·E)); beyond, they
+/// are estimated from about kPairSources evenly spread sources (O(kPairSources·E), near-linear), each
+/// standing for n_c / k_c nodes of its component (Brandes & Pich 2007, "Centrality estimation in
+/// large networks"). Deterministic: the sample depends on the graph only.
+inline constexpr int kExactPairsNodes = 4096;
+inline constexpr int kPairSources = 2048;
 
 /// One branch of the skeleton: the node chain from one end to the other.
 struct Branch {

@@ -9,6 +9,7 @@
 #include <system_error>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace cavesim::render {
@@ -38,10 +39,15 @@ void onPngWarning(png_structp, png_const_charp) {}
 
 namespace {
 
-void writePngFile(const std::string& path, const Image& img) {
-    FilePtr file(std::fopen(path.c_str(), "wb"));
-    if (!file) throw RuntimeError("cannot open " + path + " for writing");
+void appendToString(png_structp png, png_bytep data, png_size_t length) {
+    auto* out = static_cast<std::string*>(png_get_io_ptr(png));
+    out->append(reinterpret_cast<const char*>(data), length);
+}
 
+void flushNothing(png_structp) {}
+
+/// The PNG encoding of `img`, in memory.
+std::string encodePng(const std::string& path, const Image& img) {
     ErrorState state;
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &state, onPngError, onPngWarning);
     if (!png) throw RuntimeError("cannot write " + path + ": libpng initialisation failed");
@@ -53,12 +59,12 @@ void writePngFile(const std::string& path, const Image& img) {
     std::vector<png_bytep> rows(std::size_t(img.height));
     for (int y = 0; y < img.height; ++y)
         rows[std::size_t(y)] = const_cast<png_bytep>(img.pixels.data() + std::size_t(y) * img.width * 3);
-
+    std::string bytes;
     if (setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
         throw RuntimeError("cannot write " + path + ": " + state.message);
     }
-    png_init_io(png, file.get());
+    png_set_write_fn(png, &bytes, appendToString, flushNothing);
     png_set_IHDR(png, info, png_uint_32(img.width), png_uint_32(img.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     // Pictures are mostly flat colour: one cheap row filter and fast deflate keep files small
@@ -69,8 +75,7 @@ void writePngFile(const std::string& path, const Image& img) {
     png_write_image(png, rows.data());
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
-    if (std::fflush(file.get()) != 0 || std::ferror(file.get())) throw RuntimeError("cannot write " + path);
-    if (std::fclose(file.release()) != 0) throw RuntimeError("cannot write " + path);
+    return bytes;
 }
 
 }  // namespace
@@ -78,22 +83,8 @@ void writePngFile(const std::string& path, const Image& img) {
 void writePng(const std::string& path, const Image& img) {
     if (img.width <= 0 || img.height <= 0 || img.pixels.size() != std::size_t(img.width) * img.height * 3)
         throw RuntimeError("cannot write " + path + ": empty or malformed image");
-    // Complete or not at all: write a temporary file beside the target, then rename it.
-    const std::filesystem::path target(path);
-    const std::filesystem::path temp = target.parent_path() / ("." + target.filename().string() + ".partial");
-    try {
-        writePngFile(temp.string(), img);
-    } catch (...) {
-        std::error_code ec;
-        std::filesystem::remove(temp, ec);
-        throw;
-    }
-    std::error_code ec;
-    std::filesystem::rename(temp, target, ec);
-    if (ec) {
-        std::filesystem::remove(temp, ec);
-        throw RuntimeError("cannot write " + path + ": " + ec.message());
-    }
+    // Encoded in memory, then written with every write checked, synced and renamed into place.
+    writeFileAtomic(path, encodePng(path, img));
 }
 
 Image readPng(const std::string& path) {

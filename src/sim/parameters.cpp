@@ -323,9 +323,9 @@ std::vector<ParamSection> makeRegistry() {
         "gives one message naming the file, the line, the key, the value and what is allowed, and exit code\n"
         "2; no output is written. `cavesim validate FILE` checks a file without running it. A run writes\n"
         "the *effective* scenario (every default filled in) to `DIR/scenario.toml`; that file is itself a\n"
-        "valid scenario and reproduces the run (its last line, a comment, records the `state.vdb` the run\n"
-        "wrote, for `cavesim report`). A scenario is a regular file of at most 16 MiB whose dotted keys\n"
-        "and table names have at most 32 parts.\n\n"
+        "valid scenario and reproduces the run (its last line, a comment, records the `state.cavesim` the\n"
+        "run wrote, for `cavesim report`). A scenario is a regular file of at most 16 MiB whose dotted keys\n"
+        "and table names have at most 32 parts, with non-ASCII characters only inside strings and comments.\n\n"
         "These key names are a contract: keys may be added, never renamed or repurposed.\n\n"
         "`cavesim reference` prints this reference (this file is its output); `cavesim reference --example`\n"
         "prints a complete scenario with every key at its default, commented.";

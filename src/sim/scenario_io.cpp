@@ -14,6 +14,7 @@
 
 #include <toml++/toml.h>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "sim/default_scenario.h"
 #include "sim/parameters.h"
@@ -99,10 +100,18 @@ std::string describe(const toml::node& n) {
     return shortened(s, 60, 57);
 }
 
-/// The deepest run of dotted key parts (`a.b.c` is 3) outside strings and comments. toml++
-/// recurses once per part and overflows the stack on keys of ~100 000 parts; cavesim's keys have 3.
-int deepestDottedKey(std::string_view t) {
-    int deepest = 0, dots = 0;
+/// What a pass over the text outside strings and comments finds before toml++ sees it.
+struct TextScan {
+    int deepestDottedKey = 0;                         ///< longest run of dotted key parts (`a.b.c` is 3)
+    std::size_t nonAsciiAt = std::string_view::npos;  ///< offset of the first byte >= 0x80, if any
+};
+
+/// toml++ 3.3 recurses once per dotted key part and overflows the stack on keys of ~100 000 parts
+/// (cavesim's keys have 3); and it reaches code it marks unreachable on a non-ASCII character where
+/// a key is expected (`é = 1`). Outside strings and comments a scenario needs neither.
+TextScan scanOutsideStrings(std::string_view t) {
+    TextScan scan;
+    int dots = 0;
     for (std::size_t c = 0; c < t.size(); ++c) {
         const char ch = t[c];
         if (ch == '#') {  // comment to the end of the line
@@ -116,14 +125,17 @@ int deepestDottedKey(std::string_view t) {
             c += close.size() - 1;  // on the closing quote; a quoted part continues the run
             // A multi-line string may end in up to two more quotes ("""x"""" is the string x").
             for (int extra = 0; triple && extra < 2 && c + 1 < t.size() && t[c + 1] == ch; ++extra) ++c;
+        } else if (static_cast<unsigned char>(ch) >= 0x80) {
+            if (scan.nonAsciiAt == std::string_view::npos) scan.nonAsciiAt = c;
+            dots = 0;
         } else if (ch == '.') {
-            deepest = std::max(deepest, ++dots + 1);
+            scan.deepestDottedKey = std::max(scan.deepestDottedKey, ++dots + 1);
         } else if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == ' ' ||
                      ch == '\t')) {
             dots = 0;
         }
     }
-    return deepest;
+    return scan;
 }
 
 /// Reads one TOML table against a fixed set of keys; everything it reports names file, line, key.
@@ -611,7 +623,14 @@ void validateScenario(const Scenario& s) {
 }
 
 Scenario parseScenarioString(std::string_view text, const std::string& sourceName) {
-    if (deepestDottedKey(text) > 32) {
+    const TextScan scan = scanOutsideStrings(text);
+    if (scan.nonAsciiAt != std::string_view::npos) {
+        const auto line = 1 + std::count(text.begin(), text.begin() + std::ptrdiff_t(scan.nonAsciiAt), '\n');
+        throw InputError(sourceName + ":" + std::to_string(line) +
+                         ": a non-ASCII character outside a string or comment; keys are ASCII letters, digits, "
+                         "'_' and '-', and other text belongs in quotes");
+    }
+    if (scan.deepestDottedKey > 32) {
         const Scenario d;
         throw InputError(sourceName +
                          ": a dotted key or table name of more than 32 parts; cavesim's keys have at most 3 (e.g. " +
@@ -759,10 +778,28 @@ toml::table scenarioTable(const Scenario& s) {
     return root;
 }
 
-std::string scenarioToToml(const Scenario& s) {
+namespace {
+
+std::string tomlText(const Scenario& s) {
     std::ostringstream os;
     os << "# Effective scenario: every key with its value, defaults filled in.\n" << scenarioTable(s) << "\n";
     return os.str();
+}
+
+}  // namespace
+
+std::string scenarioToToml(const Scenario& s) {
+    // toml++'s writer is checked, not trusted (3.3 mishandles some small negative floats): the text
+    // must read back to a scenario that writes the very same text.
+    const std::string text = tomlText(s);
+    std::string again;
+    try {
+        again = tomlText(parseScenarioString(text, "<effective scenario>"));
+    } catch (const InputError& e) {
+        CAVESIM_CHECK(false, std::string("the effective scenario does not read back: ") + e.what());
+    }
+    CAVESIM_CHECK(again == text, "the effective scenario does not read back to the same values");
+    return text;
 }
 
 }  // namespace cavesim

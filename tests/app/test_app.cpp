@@ -1,10 +1,10 @@
 // The application layer (src/app): the run pipeline, the state files written and read back in one
 // schema, the report rebuilt from a run folder, the seed override, and limits reported against the
 // scenario file.
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -73,8 +73,8 @@ TEST(App, PipelineWritesEveryFileAndTheStateReadsBackExactly) {
     const Scenario s = parseScenarioString(kSmall, "small.toml");
     const fs::path out = scratch("run");
     const app::PipelineResult r = runInto(s, out);
-    for (const char* f : {"scenario.toml", "state.vdb", "stage1.vdb", "cave.obj", "cave.ply", "skeleton.json",
-                          "skeleton_nodes.dat", "skeleton_links.dat", "report.json", "report.md"})
+    for (const char* f : {"scenario.toml", "state.vdb", "state.cavesim", "stage1.vdb", "cave.obj", "cave.ply",
+                          "skeleton.json", "skeleton_nodes.dat", "skeleton_links.dat", "report.json", "report.md"})
         EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
     EXPECT_EQ(r.report["scenario"], "small");
     EXPECT_EQ(r.report["stage2"]["iterations"], 40);
@@ -121,7 +121,7 @@ TEST(App, ChangedStateFileIsRefusedBeforeReading) {
     const fs::path out = scratch("changed");
     const app::PipelineResult r = runInto(s, out);
     {
-        std::fstream f(out / "state.vdb", std::ios::in | std::ios::out | std::ios::binary);
+        std::fstream f(out / "state.cavesim", std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(100);
         f.put('\x7f');
     }

@@ -7,6 +7,9 @@
 #include <sstream>
 #include <string>
 
+#include <csignal>
+
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "core/atomic_file.h"
@@ -115,6 +118,39 @@ TEST(AtomicFile, FailsIntoAReadOnlyDirectory) {
     EXPECT_THROW(writeFileAtomic((dir.path / "a.txt").string(), "x"), RuntimeError);
     fs::permissions(dir.path, fs::perms::owner_all, fs::perm_options::add);
     EXPECT_TRUE(entries(dir.path).empty());
+}
+
+// A file-size limit cuts the write short: the error names the file, the reason and how far it got;
+// the old file stays as it was and no temporary is left behind.
+TEST(AtomicFile, AShortWriteIsAnErrorAndLeavesTheOldFile) {
+    TempDir dir;
+    const fs::path p = dir.path / "state.bin";
+    writeFileAtomic(p.string(), "old");
+    struct rlimit old {};
+    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+    void (*previous)(int) = std::signal(SIGXFSZ, SIG_IGN);  // EFBIG instead of the signal
+    struct rlimit small = old;
+    small.rlim_cur = 4096;
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    std::string message;
+    try {
+        writeFileAtomic(p.string(), std::string(10000, 'x'));
+    } catch (const RuntimeError& e) {
+        message = e.what();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, previous);
+    EXPECT_NE(message.find("cannot write " + p.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("File too large"), std::string::npos) << message;
+    EXPECT_NE(message.find("4096 of 10000 bytes"), std::string::npos) << message;
+    EXPECT_EQ(readAll(p), "old");
+    EXPECT_EQ(entries(dir.path), std::vector<std::string>{"state.bin"});
+}
+
+TEST(AtomicFile, SyncDirectoryNamesAFolderThatIsNotThere) {
+    TempDir dir;
+    EXPECT_NO_THROW(syncDirectory(dir.path));
+    EXPECT_THROW(syncDirectory(dir.path / "missing"), RuntimeError);
 }
 
 }  // namespace
