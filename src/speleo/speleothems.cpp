@@ -160,7 +160,9 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
     std::mt19937_64 rng(o.seed ^ kDripSalt);
     const GradientNoise dripNoise(rng);
     const double rTip = tipRadiusOf(o, h);
-    openvdb::tools::GridSampler<FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(grid.getConstAccessor(),
+    // GridSampler keeps a reference to the accessor: it must outlive the sampler.
+    const FloatGrid::ConstAccessor sampleAccessor = grid.getConstAccessor();
+    openvdb::tools::GridSampler<FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(sampleAccessor,
                                                                                               grid.transform());
 
     for (const std::vector<int>& members : groups) {
