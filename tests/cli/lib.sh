@@ -15,6 +15,12 @@ expect_exit() {
   if [ "$got" -eq "$want" ]; then pass "$what (exit $got)"; else fail "$what: exit $got, wanted $want; stderr: $(cat stderr.txt)"; fi
 }
 stderr_has() { if grep -qF -- "$1" stderr.txt; then pass "stderr mentions '$1'"; else fail "stderr lacks '$1': $(cat stderr.txt)"; fi; }
+# shared_run NAME [AS]: copies the run NAME of tests/cli/shared_runs.sh (the CTest fixture
+# cli_shared_runs, whose folder CTest passes in CAVESIM_SHARED_RUNS) here, as AS (default NAME).
+shared_run() {
+  local from=${CAVESIM_SHARED_RUNS:?the shared runs come from tests/cli/shared_runs.sh (CTest: cli.shared_runs)}/$1
+  if [ -f "$from/report.json" ] && cp -r "$from" "${2:-$1}"; then pass "shared run $1"; else fail "no shared run $from"; fi
+}
 finish() { if [ "$failures" -eq 0 ]; then echo "all passed"; exit 0; else echo "$failures failure(s)"; exit 1; fi; }
 small_scenario() {  # a tiny, fast scenario
   cat <<'TOML'
