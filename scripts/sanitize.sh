@@ -2,7 +2,8 @@
 # The sanitizer part of the test command (called by scripts/test.sh): an AddressSanitizer +
 # UndefinedBehaviorSanitizer build (clang) of the unit tests and the cavesim command in a build
 # directory of its own, the unit tests and a few end-to-end runs under it, then each libFuzzer
-# target run for a bounded time from its committed seed corpus (fuzz/corpus/<target>).
+# target run for a bounded time from its committed seed corpus (fuzz/corpus/<target>; the scenario
+# target also from the shipped scenarios/*.toml).
 #   CAVESIM_ASAN_BUILD_DIR  build directory (default build-asan)
 #   CAVESIM_FUZZ_SECONDS    seconds per fuzz target (default 60; 0 skips fuzzing)
 set -euo pipefail
@@ -59,6 +60,7 @@ echo "sanitize: end-to-end $((ran - tested)) s" >&2
 if [ "$FUZZ_SECONDS" -gt 0 ]; then
   for t in scenario state_file; do
     corpus=$BUILD/fuzz-corpus-$t && rm -rf "$corpus" && mkdir -p "$corpus"
+    if [ "$t" = scenario ]; then cp scenarios/*.toml "$corpus/"; fi
     if ! "$BUILD/fuzz/fuzz_$t" -max_total_time="$FUZZ_SECONDS" -rss_limit_mb=2048 -print_final_stats=1 \
          -artifact_prefix="$BUILD/fuzz-$t-" "$corpus" "fuzz/corpus/$t" >"$BUILD/fuzz_$t.log" 2>&1; then
       echo "sanitize: fuzz_$t found a failure (artifact $BUILD/fuzz-$t-*, log $BUILD/fuzz_$t.log)" >&2
