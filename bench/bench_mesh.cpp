@@ -68,9 +68,9 @@ Domain windingTubes() {
     return d;
 }
 
-const Domain& fixture() {
-    static const Domain d = windingTubes();
-    return d;
+const Cave& fixture() {
+    static const Cave c = makeCave(windingTubes(), CaveExtent::kChannels);
+    return c;
 }
 
 std::filesystem::path scratchDir() {
@@ -80,24 +80,22 @@ std::filesystem::path scratchDir() {
 }
 
 void BM_WriteCaveMesh(benchmark::State& state) {
-    const Domain& d = fixture();
+    const Cave& cave = fixture();
     const auto dir = scratchDir();
-    for (auto _ : state) benchmark::DoNotOptimize(mesh::writeCaveMesh(makeCave(d, CaveExtent::kChannels), dir.string()).faces);
-    state.counters["faces"] = double(mesh::measureMesh(mesh::buildCaveMesh(caveMask(d, CaveExtent::kChannels), d.voxelSize)).faces);
+    for (auto _ : state) benchmark::DoNotOptimize(mesh::writeCaveMesh(cave, dir.string()).faces);
+    state.counters["faces"] = double(mesh::measureMesh(mesh::buildCaveMesh(cave.mask, cave.voxelSize)).faces);
 }
 BENCHMARK(BM_WriteCaveMesh)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 void BM_BuildCaveMesh(benchmark::State& state) {
-    const Domain& d = fixture();
-    const Grid3<std::uint8_t> mask = caveMask(d, CaveExtent::kChannels);
-    for (auto _ : state) benchmark::DoNotOptimize(mesh::buildCaveMesh(mask, d.voxelSize).triangles.size());
+    const Cave& cave = fixture();
+    for (auto _ : state) benchmark::DoNotOptimize(mesh::buildCaveMesh(cave.mask, cave.voxelSize).triangles.size());
 }
 BENCHMARK(BM_BuildCaveMesh)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 void BM_WriteCavePictures(benchmark::State& state) {
-    const Domain& d = fixture();
     const auto dir = scratchDir() / "images";
-    for (auto _ : state) mesh::writeCavePictures(makeCave(d, CaveExtent::kChannels), dir.string(), int(state.range(0)));
+    for (auto _ : state) mesh::writeCavePictures(fixture(), dir.string(), int(state.range(0)));
 }
 BENCHMARK(BM_WriteCavePictures)
     ->Arg(1024)
@@ -108,8 +106,8 @@ BENCHMARK(BM_WriteCavePictures)
     ->ReportAggregatesOnly(true);
 
 void BM_RenderCaveViews(benchmark::State& state) {
-    const Domain& d = fixture();
-    for (auto _ : state) benchmark::DoNotOptimize(mesh::renderCaveViews(makeCave(d, CaveExtent::kChannels), int(state.range(0)))[0].pixels.data());
+    for (auto _ : state)
+        benchmark::DoNotOptimize(mesh::renderCaveViews(fixture(), int(state.range(0)))[0].pixels.data());
 }
 BENCHMARK(BM_RenderCaveViews)
     ->Arg(1024)
@@ -119,22 +117,21 @@ BENCHMARK(BM_RenderCaveViews)
     ->ReportAggregatesOnly(true);
 
 void BM_MeshAndPictures(benchmark::State& state) {
-    const Domain& d = fixture();
+    const Cave& cave = fixture();
     const auto dir = scratchDir();
     for (auto _ : state) {
-        benchmark::DoNotOptimize(mesh::writeCaveMesh(makeCave(d, CaveExtent::kChannels), dir.string()).faces);
-        mesh::writeCavePictures(makeCave(d, CaveExtent::kChannels), (dir / "images").string(), 1024);
+        benchmark::DoNotOptimize(mesh::writeCaveMesh(cave, dir.string()).faces);
+        mesh::writeCavePictures(cave, (dir / "images").string(), 1024);
     }
 }
 BENCHMARK(BM_MeshAndPictures)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 // The same files through writeCaveMeshAndPictures (one level set for both).
 void BM_MeshAndPicturesShared(benchmark::State& state) {
-    const Domain& d = fixture();
     const auto dir = scratchDir();
     for (auto _ : state)
         benchmark::DoNotOptimize(
-            mesh::writeCaveMeshAndPictures(makeCave(d, CaveExtent::kChannels), dir.string(), (dir / "images").string(), 1024).faces);
+            mesh::writeCaveMeshAndPictures(fixture(), dir.string(), (dir / "images").string(), 1024).faces);
 }
 BENCHMARK(BM_MeshAndPicturesShared)
     ->Unit(benchmark::kMillisecond)

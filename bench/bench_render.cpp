@@ -8,8 +8,8 @@
 #include <filesystem>
 
 #include "render/pictures.h"
-#include "sim/cave.h"
 #include "render/png_io.h"
+#include "sim/cave.h"
 #include "sim/domain.h"
 
 namespace {
@@ -78,17 +78,22 @@ BENCHMARK(BM_ZonesPicture)->Unit(benchmark::kMillisecond)->UseRealTime()->Repeti
 
 void BM_FieldPictures(benchmark::State& state) {
     const auto dir = scratch().string();
-    for (auto _ : state) { const Domain d = block(); render::writeFieldPictures(d, caveMask(d, CaveExtent::kChannels), dir, 1024); };
+    const Grid3<std::uint8_t> mask = caveMask(block(), CaveExtent::kChannels);
+    for (auto _ : state) render::writeFieldPictures(block(), mask, dir, 1024);
 }
 BENCHMARK(BM_FieldPictures)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 void BM_StateFrameBlock(benchmark::State& state) {
-    for (auto _ : state) benchmark::DoNotOptimize(render::stateFrame(block(), caveMask(block(), CaveExtent::kChannels), "iteration 120", 1024).pixels.data());
+    const Grid3<std::uint8_t> mask = caveMask(block(), CaveExtent::kChannels);
+    for (auto _ : state)
+        benchmark::DoNotOptimize(render::stateFrame(block(), mask, "iteration 120", 1024).pixels.data());
 }
 BENCHMARK(BM_StateFrameBlock)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 void BM_StateFrameSection(benchmark::State& state) {
-    for (auto _ : state) benchmark::DoNotOptimize(render::stateFrame(section(), caveMask(section(), CaveExtent::kChannels), "iteration 120", 1024).pixels.data());
+    const Grid3<std::uint8_t> mask = caveMask(section(), CaveExtent::kChannels);
+    for (auto _ : state)
+        benchmark::DoNotOptimize(render::stateFrame(section(), mask, "iteration 120", 1024).pixels.data());
 }
 BENCHMARK(BM_StateFrameSection)
     ->Unit(benchmark::kMillisecond)
@@ -97,7 +102,8 @@ BENCHMARK(BM_StateFrameSection)
     ->ReportAggregatesOnly(true);
 
 void BM_SequenceOfFive(benchmark::State& state) {
-    const std::vector<render::Image> frames(5, render::stateFrame(section(), caveMask(section(), CaveExtent::kChannels), "iteration 120", 1024));
+    const std::vector<render::Image> frames(
+        5, render::stateFrame(section(), caveMask(section(), CaveExtent::kChannels), "iteration 120", 1024));
     const auto path = (scratch() / "sequence.png").string();
     for (auto _ : state) render::writePng(path, render::composeStrip(frames, 1));
 }

@@ -2,7 +2,8 @@
 # The sanitizer part of the test command (called by scripts/test.sh): an AddressSanitizer +
 # UndefinedBehaviorSanitizer build (clang) of the unit tests and the cavesim command in a build
 # directory of its own, the unit tests and a few end-to-end runs under it, then each libFuzzer
-# target run for a bounded time from its committed seed corpus (fuzz/corpus/<target>).
+# target run for a bounded time from its committed seed corpus (fuzz/corpus/<target>; the scenario
+# target also from the shipped scenarios/*.toml).
 #   CAVESIM_ASAN_BUILD_DIR  build directory (default build-asan)
 #   CAVESIM_FUZZ_SECONDS    seconds per fuzz target (default 60; 0 skips fuzzing)
 set -euo pipefail
@@ -12,8 +13,8 @@ FUZZ_SECONDS=${CAVESIM_FUZZ_SECONDS:-60}
 SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 # Unit tests of every module and of the public API (libcavesim.so; the Python module is not built
 # here: it would need the sanitizer runtime preloaded into Python); the fuzz targets; the command.
-TARGETS=(test_core test_fastmarch test_flownet test_sim test_render test_mesh test_morpho test_formats test_app
-         test_lib cavesim fuzz_scenario fuzz_state_file)
+MODULES=(core fastmarch flownet sim render mesh morpho formats app lib)
+TARGETS=("${MODULES[@]/#/test_}" cavesim fuzz_scenario fuzz_state_file)
 start=$(date +%s)
 cmake -S . -B "$BUILD" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_CXX_FLAGS="$SAN" \
@@ -27,9 +28,8 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/scripts/lsan.supp:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 fail=0
-for t in core fastmarch flownet sim render mesh morpho formats app lib; do
-  exe=$(find "$BUILD/tests/$t" -maxdepth 1 -name "test_$t" -type f | head -1)
-  if ! "$exe" --gtest_brief=1 >"$BUILD/test_$t.log" 2>&1; then
+for t in "${MODULES[@]}"; do
+  if ! "$BUILD/tests/$t/test_$t" --gtest_brief=1 >"$BUILD/test_$t.log" 2>&1; then
     echo "sanitize: test_$t FAILED (log: $BUILD/test_$t.log)" >&2
     tail -40 "$BUILD/test_$t.log" >&2
     fail=1
@@ -60,6 +60,7 @@ echo "sanitize: end-to-end $((ran - tested)) s" >&2
 if [ "$FUZZ_SECONDS" -gt 0 ]; then
   for t in scenario state_file; do
     corpus=$BUILD/fuzz-corpus-$t && rm -rf "$corpus" && mkdir -p "$corpus"
+    if [ "$t" = scenario ]; then cp scenarios/*.toml "$corpus/"; fi
     if ! "$BUILD/fuzz/fuzz_$t" -max_total_time="$FUZZ_SECONDS" -rss_limit_mb=2048 -print_final_stats=1 \
          -artifact_prefix="$BUILD/fuzz-$t-" "$corpus" "fuzz/corpus/$t" >"$BUILD/fuzz_$t.log" 2>&1; then
       echo "sanitize: fuzz_$t found a failure (artifact $BUILD/fuzz-$t-*, log $BUILD/fuzz_$t.log)" >&2

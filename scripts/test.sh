@@ -20,9 +20,8 @@ bash scripts/setup.sh
 # (tests/cli/report_html.sh); clang with its sanitizer and libFuzzer runtimes (scripts/sanitize.sh).
 TEST_PACKAGES=(survex therion python3-vtk9 python3-openvdb python3-numpy python3-pytest python3-networkx
   python3-matplotlib chromium python3-websocket python3-pil clang libclang-rt-dev)
-. scripts/install_packages.sh
 install_packages test "${TEST_PACKAGES[@]}"
-ctest --test-dir "${CAVESIM_BUILD_DIR:-build}" --output-on-failure --parallel "$(nproc)" --timeout 900
+ctest --test-dir "$BUILD_DIR" --output-on-failure --parallel "$(nproc)" --timeout 900
 if [ "${CAVESIM_SANITIZE:-1}" != 0 ]; then
   bash scripts/sanitize.sh
 fi

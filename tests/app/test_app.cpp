@@ -1,7 +1,6 @@
 // The application layer (src/app): the run pipeline, the state files written and read back in one
 // schema, the report rebuilt from a run folder, the seed override, and limits reported against the
 // scenario file.
-#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -9,9 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "app/commands.h"
-#include "app/output_dir.h"
-#include "app/pipeline.h"
 #include "app/state.h"
+#include "app_test_util.h"
 #include "core/error.h"
 #include "sim/cave.h"
 #include "sim/domain.h"
@@ -21,45 +19,8 @@
 #include "sim/stage2.h"
 
 using namespace cavesim;
+using namespace cavesim::apptest;
 namespace fs = std::filesystem;
-
-namespace {
-
-// Small enough for a test: a 20 × 12 × 8 block, two sources, one sink wall, 40 iterations.
-const char* kSmall = R"(name = "small"
-seed = 5
-[domain]
-size = [20, 12, 8]
-voxel_size = 2.0
-[[source]]
-at = [2, 3, 6]
-[[source]]
-at = [2, 9, 6]
-pressure = 0.5
-[[sink]]
-box = [[19, 0, 0], [19, 11, 7]]
-[stage2]
-iterations = 40
-[output]
-images = false
-)";
-
-fs::path scratch(const std::string& name) {
-    const fs::path p = fs::temp_directory_path() / ("cavesim_test_app_" + std::to_string(::getpid())) / name;
-    fs::remove_all(p);
-    fs::create_directories(p.parent_path());
-    return p;
-}
-
-app::PipelineResult runInto(const Scenario& s, const fs::path& out, const app::PipelineOptions& o = {}) {
-    app::OutputDir dir(out, true);
-    dir.open();
-    app::PipelineResult r = app::runPipeline(s, dir, o);
-    dir.commit();
-    return r;
-}
-
-}  // namespace
 
 TEST(App, SeedTextIsDigitsOnly) {
     EXPECT_EQ(app::parseSeed("0"), 0u);
@@ -154,7 +115,7 @@ TEST(App, AlsoMeasureEqualsARunWithTheOtherCaveDefinition) {
 }
 
 TEST(App, Stage1LimitNamesTheFileLineAndKey) {
-    const std::string text = std::string(kSmall) + "[stage1]\nmax_graph_voxels = 100\n";
+    const std::string text = kSmall + "[stage1]\nmax_graph_voxels = 100\n";
     const Scenario s = parseScenarioString(text, "limits.toml");
     try {
         runInto(s, scratch("limit"));

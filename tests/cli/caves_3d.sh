@@ -6,8 +6,9 @@
 # (paper §4.1), a capture in at least half of them. Whether a weak source joins before the last
 # iteration, and whether two channels merge before or after they break through, varies with the seed.
 . "$(dirname "$0")/lib.sh"
+shared_run fig10
+for fig in fig11 fig12; do expect_exit 0 "$fig runs" -- "$CAVESIM" run "$SRC/scenarios/$fig.toml" --out "$fig" -q; done
 for fig in fig10 fig11 fig12; do
-  expect_exit 0 "$fig runs" -- "$CAVESIM" run "$SRC/scenarios/$fig.toml" --out "$fig" -q
   python3 - "$fig" "$fig/report.json" "$SRC/src/morpho/reference_ranges.h" <<'PY' && pass "$fig: breakthrough, all sources connected, confined indices" || fail "$fig"
 import json, re, sys
 fig, path = sys.argv[1], sys.argv[2]

@@ -2,7 +2,6 @@
 # the threads and members at once; a rerun resumes (finished members kept, missing or changed ones
 # rerun); a failing member is recorded and the others go on; bad requests exit 2.
 . "$(dirname "$0")/lib.sh"
-. "$SRC/tests/cli/ensemble_lib.sh"
 tiny_ensemble_scenario > t.toml
 
 expect_exit 0 "ensemble of 3, 2 threads" -- "$CAVESIM" ensemble t.toml --members 3 --out e1 -j 2

@@ -1,7 +1,6 @@
 # `mpirun -n 2 cavesim ensemble` spreads the members over two ranks and writes, member by member,
 # what the local ensemble writes. Skipped (exit 77) without mpirun or in a build without MPI.
 . "$(dirname "$0")/lib.sh"
-. "$SRC/tests/cli/ensemble_lib.sh"
 command -v mpirun >/dev/null || { echo "skip: no mpirun"; exit 77; }
 MPIRUN=(mpirun -n 2 --oversubscribe)
 [ "$(id -u)" -eq 0 ] && MPIRUN+=(--allow-run-as-root)

@@ -23,8 +23,7 @@ check_run() {  # DIR NORMALS
 expect_exit 0 "fig10 with every format, inward normals" -- \
   "$CAVESIM" run "$SRC/scenarios/fig10.toml" --out fig10 --formats all --mesh-normals inward -q
 check_run fig10 inward
-expect_exit 0 "fig08 (2D section) with every format" -- \
-  "$CAVESIM" run "$SRC/scenarios/fig08.toml" --out fig08 --formats all -q
+shared_run fig08
 check_run fig08 outward
 
 # The default set, none, and a scenario's own list; bad values are refused before any work.

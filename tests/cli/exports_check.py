@@ -6,25 +6,18 @@ NORMALS: inward or outward, the side cave.glb's normals must face.
 import csv
 import json
 import math
+import os
 import sys
 
 import pyopenvdb
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from export_readback import check, finish, glb_blocks, near, stations, vtk_read  # noqa: E402
+
 out, normals, svx_dump, th_dump = sys.argv[1:5]
 rep = json.load(open(out + "/report.json"))
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-
-
-def near(a, b, tol):
-    return all(abs(x - y) <= tol for x, y in zip(a, b))
-
 
 h = rep["voxel_size_m"]
 nx, ny, nz = rep["grid"]
@@ -41,10 +34,7 @@ def inside(b, tol):
 
 
 # --- cave.stl (VTK): the mesh's triangles, inside the block ---
-r = vtk.vtkSTLReader()
-r.SetFileName(out + "/cave.stl")
-r.Update()
-stl = r.GetOutput()
+stl = vtk_read(vtk.vtkSTLReader, out + "/cave.stl")
 b = stl.GetBounds()
 check(stl.GetNumberOfCells() == mesh["faces"], "stl triangles %d vs report %d" % (stl.GetNumberOfCells(), mesh["faces"]))
 check(inside(b, h), "stl bounds %s outside the block %s" % (b, block))
@@ -55,15 +45,7 @@ check(abs(mass.GetVolume() - mesh["volume_m3"]) <= 1e-3 * mesh["volume_m3"], "st
 check(abs(mass.GetSurfaceArea() - mesh["area_m2"]) <= 1e-3 * mesh["area_m2"], "stl area")
 
 # --- cave.glb (VTK's glTF reader): same triangles, y up, normals on the asked side ---
-r = vtk.vtkGLTFReader()
-r.SetFileName(out + "/cave.glb")
-r.Update()
-it = r.GetOutput().NewIterator()
-it.InitTraversal()
-blocks = []
-while not it.IsDoneWithTraversal():
-    blocks.append(it.GetCurrentDataObject())
-    it.GoToNextItem()
+blocks = glb_blocks(out + "/cave.glb")
 check(len(blocks) == 1, "glb blocks %d" % len(blocks))
 g = blocks[0]
 check(g.GetNumberOfCells() == mesh["faces"], "glb triangles %d" % g.GetNumberOfCells())
@@ -85,10 +67,7 @@ agree = float((vn[tri[:, 0]] * cross).sum(axis=1).__gt__(0).mean())
 check(agree > 0.95, "glb vertex normals agree with the winding for %.3f of triangles" % agree)
 
 # --- state.vti: every grid, x fastest, metres ---
-r = vtk.vtkXMLImageDataReader()
-r.SetFileName(out + "/state.vti")
-r.Update()
-img = r.GetOutput()
+img = vtk_read(vtk.vtkXMLImageDataReader, out + "/state.vti")
 check(img.GetDimensions() == (nx + 1, ny + 1, nz + 1), "vti dims %s" % (img.GetDimensions(),))
 check(near(img.GetSpacing(), (h, h, h), 1e-12), "vti spacing %s" % (img.GetSpacing(),))
 cd = img.GetCellData()
@@ -100,10 +79,7 @@ fd = img.GetFieldData()
 check(fd.GetAbstractArray("length_unit").GetValue(0) == "m", "vti length unit")
 
 # --- skeleton.vtp: the skeleton's nodes and edges ---
-r = vtk.vtkXMLPolyDataReader()
-r.SetFileName(out + "/skeleton.vtp")
-r.Update()
-p = r.GetOutput()
+p = vtk_read(vtk.vtkXMLPolyDataReader, out + "/skeleton.vtp")
 check(p.GetNumberOfPoints() == skel["nodes"], "vtp points %d vs %d" % (p.GetNumberOfPoints(), skel["nodes"]))
 segs = sum(p.GetCell(i).GetNumberOfPoints() - 1 for i in range(p.GetNumberOfCells()))
 check(segs == skel["edges"], "vtp segments %d vs edges %d" % (segs, skel["edges"]))
@@ -113,15 +89,6 @@ check(abs(length - rep["morphometry"]["length_m"]) <= 1e-6 * length, "vtp length
 
 
 # --- cave.svx through cavern, cave.th through therion: one station per skeleton node ---
-def stations(dump):
-    pos = {}
-    for line in open(dump):
-        if line.startswith("NODE"):
-            parts = line.split()
-            pos[parts[4].strip("[]")] = tuple(float(v) for v in parts[1:4])
-    return pos
-
-
 for dump in (svx_dump, th_dump):
     pos = stations(dump)
     check(len(pos) == skel["nodes"], "%s stations %d vs nodes %d" % (dump, len(pos), skel["nodes"]))
@@ -162,7 +129,4 @@ check(sorted(by) == ["cave", "flags", "flow", "porosity", "porosity0", "pressure
 check(by["cave"].gridClass == "level set" and by["cave"].metadata["unit"] == "m", "vdb cave level set")
 check(abs(by["porosity"].transform.voxelSize()[0] - h) < 1e-12, "vdb voxel size")
 
-if failures:
-    print("FAILED (%s):\n  " % out + "\n  ".join(failures))
-    sys.exit(1)
-print("%s: %d export files read back" % (out, len(files)))
+finish("FAILED (%s):" % out, "%s: %d export files read back" % (out, len(files)))

@@ -7,7 +7,7 @@ if [ ! -f "$VIEWER_DIR/model-viewer-umd.min.js" ]; then
   echo "skip: no viewer in $VIEWER_DIR (scripts/setup.sh fetches it)"
   exit 77
 fi
-expect_exit 0 "run fig10" -- "$CAVESIM" run --out fig10 -q
+shared_run fig10
 for f in report.html report_files/model-viewer-umd.min.js report_files/model-viewer-LICENSE; do
   [ -s "fig10/$f" ] && pass "$f written" || fail "$f missing"
 done

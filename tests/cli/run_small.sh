@@ -59,17 +59,17 @@ cmp -s damaged/report.json damaged-before.json && pass "nothing rewritten before
 # The record of state.cavesim: report.json's entry may be unusable (the scenario.toml line is then used);
 # with neither, or with a scenario edited to another grid, or with a state.cavesim that is a FIFO, the
 # folder is refused; temporary files never write through a symlink lying in the folder.
-rm -rf rec && cp -r r rec
-python3 - rec/report.json <<'PY'
+drop_report_record() {  # report.json's record of state.cavesim made unusable
+  python3 - rec/report.json <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1])); j["files"] = {"state.cavesim": None}; json.dump(j, open(sys.argv[1], "w"))
 PY
+}
+rm -rf rec && cp -r r rec
+drop_report_record
 expect_exit 0 "report falls back to scenario.toml's record" -- "$CAVESIM" report rec
 sed -i '/^# state.cavesim:/d' rec/scenario.toml
-python3 - rec/report.json <<'PY'
-import json, sys
-j = json.load(open(sys.argv[1])); j["files"] = {"state.cavesim": None}; json.dump(j, open(sys.argv[1], "w"))
-PY
+drop_report_record
 expect_exit 2 "report refuses a state.cavesim without any record" -- "$CAVESIM" report rec
 stderr_has "no usable record"
 rm -rf rec && cp -r r rec && sed -i 's/^size = \[ 16, 1, 12 \]/size = [ 16, 1, 13 ]/' rec/scenario.toml

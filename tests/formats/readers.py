@@ -3,25 +3,18 @@ readers and checks counts, bounds and units against the known answers.
 
 Usage: readers.py OUT_DIR WRITTEN_LIST SVX_DUMP TH_DUMP  (run by readers.sh)
 """
-import math
+import csv
+import os
 import sys
 
 import pyopenvdb
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from export_readback import check, finish, glb_blocks, near, stations, vtk_read  # noqa: E402
+
 out, written, svx_dump, th_dump = sys.argv[1:5]
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-
-
-def near(a, b, tol):
-    return all(abs(x - y) <= tol for x, y in zip(a, b))
-
 
 # Known answers (sample.h): 0.5 m voxels, 12 x 8 x 6; 52 cave voxels; passage box x 0.5-5.5,
 # y 1.5-2.5 (side passage to 4.0), z 1-2; skeleton nodes below.
@@ -62,10 +55,7 @@ check(sdf(3.0, 0.25, 1.5) > 0, "cave sdf in the rock %g" % sdf(3.0, 0.25, 1.5))
 check(abs(sdf(3.0, 1.5, 1.5)) < 0.2, "cave sdf at the wall %g" % sdf(3.0, 1.5, 1.5))
 
 # --- state.vti ---
-r = vtk.vtkXMLImageDataReader()
-r.SetFileName(out + "/state.vti")
-r.Update()
-img = r.GetOutput()
+img = vtk_read(vtk.vtkXMLImageDataReader, out + "/state.vti")
 check(img.GetDimensions() == (13, 9, 7), "vti dims %s" % (img.GetDimensions(),))
 check(img.GetSpacing() == (H, H, H) and img.GetOrigin() == (0, 0, 0), "vti spacing/origin")
 check(img.GetNumberOfCells() == 576, "vti cells")
@@ -83,10 +73,7 @@ check(units.GetNumberOfValues() == 8 and units.GetValue(0).startswith("porosity:
 check(abs(fd.GetArray("voxel_size_m").GetValue(0) - H) < 1e-15, "vti voxel size")
 
 # --- skeleton.vtp ---
-r = vtk.vtkXMLPolyDataReader()
-r.SetFileName(out + "/skeleton.vtp")
-r.Update()
-p = r.GetOutput()
+p = vtk_read(vtk.vtkXMLPolyDataReader, out + "/skeleton.vtp")
 check(p.GetNumberOfPoints() == 7 and p.GetNumberOfLines() == 3, "vtp counts")
 check(near(p.GetBounds(), (1, 5, 2, 3.8, 1.5, 1.5), 1e-12), "vtp bounds %s" % (p.GetBounds(),))
 pd = p.GetPointData()
@@ -98,23 +85,12 @@ length = vtk_to_numpy(p.GetCellData().GetArray("length_m"))
 check(abs(length.sum() - 5.8) < 1e-12, "vtp total length %g" % length.sum())
 
 # --- cave.stl and cave.glb: VTK's readers ---
-r = vtk.vtkSTLReader()
-r.SetFileName(out + "/cave.stl")
-r.Update()
-stl = r.GetOutput()
+stl = vtk_read(vtk.vtkSTLReader, out + "/cave.stl")
 b = stl.GetBounds()
 check(stl.GetNumberOfCells() > 100, "stl triangles")
 check(near(b, CAVE_BOX, 0.1), "stl bounds %s" % (b,))
 
-r = vtk.vtkGLTFReader()
-r.SetFileName(out + "/cave.glb")
-r.Update()
-it = r.GetOutput().NewIterator()
-it.InitTraversal()
-blocks = []
-while not it.IsDoneWithTraversal():
-    blocks.append(it.GetCurrentDataObject())
-    it.GoToNextItem()
+blocks = glb_blocks(out + "/cave.glb")
 check(len(blocks) == 1, "glb blocks %d" % len(blocks))
 g = blocks[0]
 check(g.GetNumberOfCells() == stl.GetNumberOfCells(), "glb triangles %d vs stl %d" % (g.GetNumberOfCells(), stl.GetNumberOfCells()))
@@ -123,15 +99,6 @@ gb = g.GetBounds()  # glTF y up: (x, z, -y)
 check(near(gb, (b[0], b[1], b[4], b[5], -b[3], -b[2]), 1e-5), "glb bounds %s vs stl %s" % (gb, b))
 
 # --- cave.svx through cavern, cave.th through therion: station positions ---
-def stations(dump):
-    pos = {}
-    for line in open(dump):
-        if line.startswith("NODE"):
-            parts = line.split()
-            pos[parts[4].strip("[]")] = tuple(float(v) for v in parts[1:4])
-    return pos
-
-
 def xsects(dump):
     return [tuple(float(v) for v in line.split()[1:5]) for line in open(dump) if line.startswith("XSECT ")]
 
@@ -157,7 +124,6 @@ pl = open(out + "/skeleton.pl").read().split("\n")
 check(len([l for l in pl if l.startswith("PVRTX ")]) == 7 and len([l for l in pl if l.startswith("SEG ")]) == 6, "pl counts")
 
 # --- CSV ---
-import csv
 rows = list(csv.DictReader(open(out + "/history.csv")))
 check(len(rows) == 3 and rows[2]["injected"] == "4.5" and rows[1]["sources_connected"] == "1", "history.csv")
 rows = list(csv.DictReader(open(out + "/branches.csv")))
@@ -165,7 +131,4 @@ check(len(rows) == 3, "branches.csv rows")
 check(abs(sum(float(r["length_m"]) for r in rows) - 5.8) < 1e-12, "branches.csv length")
 check(sorted(float(r["azimuth_deg"]) for r in rows) == [0, 90, 90], "branches.csv azimuths")
 
-if failures:
-    print("FAILED:\n  " + "\n  ".join(failures))
-    sys.exit(1)
-print("readers: every export loaded back (%d files)" % len(files))
+finish("FAILED:", "readers: every export loaded back (%d files)" % len(files))

@@ -145,7 +145,8 @@ TEST(CaveMeshFiles, RejectsBadInput) {
     MeshOptions o;
     o.adaptivity = 2.0;
     EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), dir.string(), o), InternalError);
-    EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), (dir / "no" / "such" / "dir").string()), RuntimeError);
+    EXPECT_THROW(writeCaveMesh(makeCave(lChannel(), CaveExtent::kChannels), (dir / "no" / "such" / "dir").string()),
+                 RuntimeError);
     EXPECT_THROW(writeMeshFile(TriangleMesh{}, (dir / "x.stl").string()), InternalError);
     EXPECT_THROW(readMeshFile((dir / "none.obj").string()), RuntimeError);
 }
@@ -235,7 +236,8 @@ TEST(CavePictures, WritesFourPngs) {
         const render::Image img = render::readPng((dir / "images" / name).string());
         EXPECT_EQ(img.width, 256) << name;
     }
-    EXPECT_THROW(writeCavePictures(makeCave(lChannel(), CaveExtent::kChannels), (dir / "images").string(), 10), InternalError);
+    EXPECT_THROW(writeCavePictures(makeCave(lChannel(), CaveExtent::kChannels), (dir / "images").string(), 10),
+                 InternalError);
 }
 
 std::string fileBytes(const fs::path& p) {
@@ -248,7 +250,8 @@ TEST(CavePictures, SharedLevelSetWritesTheSameFiles) {
     const fs::path a = freshDir("separate"), b = freshDir("shared");
     const MeshStats sa = writeCaveMesh(makeCave(d, CaveExtent::kChannels), a.string());
     writeCavePictures(makeCave(d, CaveExtent::kChannels), (a / "images").string(), 256);
-    const MeshStats sb = writeCaveMeshAndPictures(makeCave(d, CaveExtent::kChannels), b.string(), (b / "images").string(), 256);
+    const MeshStats sb =
+        writeCaveMeshAndPictures(makeCave(d, CaveExtent::kChannels), b.string(), (b / "images").string(), 256);
     EXPECT_EQ(sa.faces, sb.faces);
     EXPECT_DOUBLE_EQ(sa.volumeM3, sb.volumeM3);
     for (const char* name : {"cave.obj", "cave.ply", "images/plan.png", "images/perspective.png", "images/side_xz.png",
@@ -256,24 +259,25 @@ TEST(CavePictures, SharedLevelSetWritesTheSameFiles) {
         EXPECT_EQ(fileBytes(a / name), fileBytes(b / name)) << name;
 }
 
-TEST(CavePictures, SectionDomainsRender) {
+// A 30×1×12 section with a straight channel along x at k = 6, a source before it, a sink after it.
+Domain lineSection() {
     Domain d = lChannel(false);
     d.dims = {30, 1, 12};
     d.flags = Grid3<std::uint8_t>(d.dims, 0);
     for (int i = 2; i < 28; ++i) d.flags.at(i, 0, 6) |= kChannel;
     d.sourceVoxels = {{d.dims.index(1, 0, 6)}};
     d.sinkVoxels = {{d.dims.index(29, 0, 6)}};
+    return d;
+}
+
+TEST(CavePictures, SectionDomainsRender) {
+    const Domain d = lineSection();
     const auto views = renderCaveViews(makeCave(d, CaveExtent::kChannels), 400);
     for (const auto& v : views) EXPECT_GT(pixelVariance(v), 100.0);
 }
 
 TEST(CavePictures, SectionsGetOnlyTheSectionView) {
-    Domain d = lChannel(false);
-    d.dims = {30, 1, 12};
-    d.flags = Grid3<std::uint8_t>(d.dims, 0);
-    for (int i = 2; i < 28; ++i) d.flags.at(i, 0, 6) |= kChannel;
-    d.sourceVoxels = {{d.dims.index(1, 0, 6)}};
-    d.sinkVoxels = {{d.dims.index(29, 0, 6)}};
+    const Domain d = lineSection();
     const fs::path dir = freshDir("section_pictures");
     writeCavePictures(makeCave(d, CaveExtent::kChannels), (dir / "images").string(), 256);
     EXPECT_EQ(countFiles(dir / "images"), 1);
