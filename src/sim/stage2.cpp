@@ -438,18 +438,36 @@ float porosityRate(float R, float R0, const Stage2Options& g) {
     return float(g.pRate * std::pow(g.pRateChannel / g.pRate, double(step) / kSteps));
 }
 
-Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
-    Grid3<float> rate(dom.dims, float(g.pRate));
-    const bool byPorosity = g.rateRule == RateRule::kPorosity;
+namespace {
+
+/// The pressure rate of voxel v as its flags and porosity stand now (the rule `rateField`
+/// documents). Erosion only raises porosity and adds flags, so a voxel's rate only falls.
+float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g) {
+    const std::uint8_t f = dom.flags[v];
+    if (g.rateRule == RateRule::kChannelFlag) return float(f & kLowRate ? g.pRateChannel : g.pRate);
     // [[rock.channel]] conduits are given open (the paper's synthetic protochannels of Figures 8–9);
     // stage-1 protochannels follow their porosity.
-    const std::uint8_t low = byPorosity ? std::uint8_t(kChannel | kOpen | kFeatureChannel) : kLowRate;
-    for (std::size_t v = 0; v < rate.size(); ++v) {
-        if (dom.flags[v] & low)
-            rate[v] = float(g.pRateChannel);
-        else if (byPorosity && (dom.flags[v] & kProtochannel))
-            rate[v] = porosityRate(dom.porosity[v], dom.porosity0[v], g);
+    if (f & (kChannel | kOpen | kFeatureChannel)) return float(g.pRateChannel);
+    if (f & kProtochannel) return porosityRate(dom.porosity[v], dom.porosity0[v], g);
+    return float(g.pRate);
+}
+
+/// After voxel v's porosity or flags changed: lowers its rate to `voxelRate` and lists it for the
+/// pressure decrease when that is lower.
+inline void lowerRate(const Domain& dom, const Stage2Options& g, std::size_t v, Grid3<float>& rate,
+                      std::vector<std::size_t>& newChannel) {
+    const float r = voxelRate(dom, v, g);
+    if (r < rate[v]) {
+        rate[v] = r;
+        newChannel.push_back(v);
     }
+}
+
+}  // namespace
+
+Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
+    Grid3<float> rate(dom.dims, float(g.pRate));
+    for (std::size_t v = 0; v < rate.size(); ++v) rate[v] = voxelRate(dom, v, g);
     return rate;
 }
 
@@ -733,18 +751,13 @@ void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending,
 
 namespace {
 
-/// The channel rule of one voxel: flags it, lowers its rate, records it.
-inline void channelRule(Domain& dom, const Stage2Options& g, std::size_t v, Grid3<float>& rate, float threshold,
-                        std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting) {
+/// The channel rule of one voxel: flags it and records it; true if it became channel.
+inline bool channelRule(Domain& dom, std::size_t v, float threshold, std::vector<std::size_t>& newConducting) {
     std::uint8_t& f = dom.flags[v];
-    if (!(f & kChannel) && dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v]) {
-        f |= kChannel;
-        newConducting.push_back(v);
-        if (rate[v] > float(g.pRateChannel)) {
-            rate[v] = float(g.pRateChannel);
-            newChannel.push_back(v);
-        }
-    }
+    if (f & kChannel || !(dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v])) return false;
+    f |= kChannel;
+    newConducting.push_back(v);
+    return true;
 }
 
 }  // namespace
@@ -752,7 +765,6 @@ inline void channelRule(Domain& dom, const Stage2Options& g, std::size_t v, Grid
 double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>& rate,
              std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting) {
     const float threshold = float(g.channelThreshold);
-    const bool byPorosity = g.rateRule == RateRule::kPorosity;
     const Dims& d = dom.dims;
     std::vector<std::vector<std::size_t>> fresh(st.activeTiles.size()), conducting(st.activeTiles.size());
     forEachTile(st, [&](const TileCtx& c) {
@@ -770,22 +782,17 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
             st.erodedHere[p] = 0;
             if (dom.flags[v] & kNotEroded) return;
             const double flow = g.wa * st.fa[p] + st.fc[p];
+            bool opened = false;
             if (flow > 0) {
                 const float R = dom.porosity[v];
                 const double dR = std::min(g.w0 * (g.m == 1.0 ? flow : std::pow(flow, g.m)), 1.0 - double(R));
                 if (dR > 0) {
                     dom.porosity[v] = std::min(1.f, float(double(R) + dR));
                     st.erodedHere[p] = double(dom.porosity[v]) - double(R);
-                    if (byPorosity && (dom.flags[v] & kProtochannel)) {
-                        const float r = porosityRate(dom.porosity[v], dom.porosity0[v], g);
-                        if (r < rate[v]) {
-                            rate[v] = r;
-                            fresh[c.slot].push_back(v);
-                        }
-                    }
+                    opened = true;
                 }
             }
-            channelRule(dom, g, v, rate, threshold, fresh[c.slot], conducting[c.slot]);
+            if (channelRule(dom, v, threshold, conducting[c.slot]) || opened) lowerRate(dom, g, v, rate, fresh[c.slot]);
             dom.flow[v] = float(flow);
         });
     });
@@ -805,7 +812,8 @@ void startStage2(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<flo
     st.channelVoxels = 0;
     for (std::size_t v = 0; v < dom.flags.size(); ++v) {
         if (dom.flags[v] & kChannel) ++st.channelVoxels;
-        if (!(dom.flags[v] & kOpen)) channelRule(dom, g, v, rate, threshold, newChannel, newConducting);
+        if (!(dom.flags[v] & kOpen) && channelRule(dom, v, threshold, newConducting))
+            lowerRate(dom, g, v, rate, newChannel);
     }
     st.channelVoxels += long(newConducting.size());
     for (const auto& src : dom.sourceVoxels)
