@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "fastmarch/fast_marching.h"
+#include "sim/connectivity.h"
 #include "sim/stage2_steps.h"
 
 namespace cavesim {
@@ -22,6 +23,8 @@ constexpr std::uint8_t kOpen = kSource | kSink;
 /// Voxels erosion never touches: the terminals, and rock that is not karst ([site]: air, insoluble).
 constexpr std::uint8_t kNotEroded = kOpen | kInert;
 constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
+/// Voxels water conducts through from a source to a sink (what counts as connected).
+constexpr std::uint8_t kConducting = kChannel | kSource | kSink;
 
 /// Contents below this (porosity units, i.e. a 10⁻⁹ part of a voxel) stay where they are: a film
 /// too thin to flow. Listing 1 moves all of a voxel's water every iteration, so water spreads
@@ -117,12 +120,6 @@ inline void forEachMasked(const Dims& d, const TileCtx& c, const TileMask& mask,
             fn(row + std::size_t(li), prow + std::size_t(li), li, lj, lk);
         }
     }
-}
-
-inline bool anyBit(const TileMask& m) {
-    for (std::uint8_t b : m)
-        if (b) return true;
-    return false;
 }
 
 /// Calls fn(v, pool) for every voxel of the active tiles (with `onlyNearSenders`, of the tiles
@@ -233,51 +230,6 @@ std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
     for (const auto& sink : dom.sinkVoxels)
         for (std::size_t v : sink) seeds.push_back({v, 0.0, 0});
     return seeds;
-}
-
-/// Breadth-first search through conducting voxels (kChannel | kSource | kSink) from `queue`,
-/// marking `seen`.
-template <typename Seen>
-void conductingSearch(const Domain& dom, std::deque<std::size_t>& queue, Seen&& seen) {
-    const Dims& d = dom.dims;
-    const auto& nb = allNeighbours();
-    while (!queue.empty()) {
-        const std::size_t v = queue.front();
-        queue.pop_front();
-        const Index3 p = d.coord(v);
-        for (const auto& o : nb) {
-            const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
-            if (!d.contains(i, j, k)) continue;
-            const std::size_t w = d.index(i, j, k);
-            if (seen(w) || !(dom.flags[w] & (kChannel | kSource | kSink))) continue;
-            seen(w) = true;
-            queue.push_back(w);
-        }
-    }
-}
-
-std::vector<bool> sourcesIn(const Domain& dom, const std::vector<bool>& seen) {
-    std::vector<bool> out;
-    for (const auto& src : dom.sourceVoxels) {
-        bool c = false;
-        for (std::size_t v : src) c = c || seen[v];
-        out.push_back(c);
-    }
-    return out;
-}
-
-/// Sources joined to a sink through channel voxels (26-connected through kChannel | kSource | kSink).
-std::vector<bool> connectedSourcesImpl(const Domain& dom) {
-    std::vector<bool> seen(dom.dims.count(), false);
-    std::deque<std::size_t> queue;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink)
-            if (!seen[v]) {
-                seen[v] = true;
-                queue.push_back(v);
-            }
-    conductingSearch(dom, queue, [&](std::size_t w) { return seen[w]; });
-    return sourcesIn(dom, seen);
 }
 
 }  // namespace
@@ -472,19 +424,11 @@ Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
 }
 
 std::vector<bool> connectedSources(const Domain& dom) {
-    return connectedSourcesImpl(dom);
+    return sourcesReached(dom, reachedFromSinks(dom, kConducting));
 }
 
 void reachFromSinks(const Domain& dom, Stage2State& st) {
-    std::fill(st.reached.begin(), st.reached.end(), false);
-    std::deque<std::size_t> queue;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink)
-            if (!st.reached[v]) {
-                st.reached[v] = true;
-                queue.push_back(v);
-            }
-    conductingSearch(dom, queue, [&](std::size_t w) { return st.reached[w]; });
+    st.reached = reachedFromSinks(dom, kConducting);
 }
 
 std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vector<std::size_t>& newConducting) {
@@ -504,9 +448,9 @@ std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vec
         if (!touches) continue;
         st.reached[c] = true;
         queue.push_back(c);
-        conductingSearch(dom, queue, [&](std::size_t w) { return st.reached[w]; });
+        spreadThrough(dom, kConducting, queue, st.reached);
     }
-    return sourcesIn(dom, st.reached);
+    return sourcesReached(dom, st.reached);
 }
 
 std::vector<Refill> refillLevels(const Domain& dom) {
