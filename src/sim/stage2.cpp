@@ -59,16 +59,40 @@ struct TileCtx {
     const std::array<std::int64_t, 27>* nb = nullptr;
 };
 
+/// The tile id of voxel v.
+std::uint32_t tileOf(const Stage2State& st, std::size_t v) {
+    const Index3 p = st.dims.coord(v);
+    return std::uint32_t(p.i / kTileSize + st.tilesX * (p.j / kTileSize + st.tilesY * (p.k / kTileSize)));
+}
+
+/// The tile coordinates (ti, tj, tk) of tile id t.
+Index3 tileCoord(const Stage2State& st, std::uint32_t t) {
+    return {int(t % std::uint32_t(st.tilesX)), int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY)),
+            int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)))};
+}
+
+/// Calls fn(n, tile) for the 27 tiles around tile t (itself included), n = (dx+1) + 3(dy+1) + 9(dz+1)
+/// in increasing order; tile is −1 outside the grid.
+template <typename Fn>
+void forEachTileAround(const Stage2State& st, std::uint32_t t, Fn&& fn) {
+    const Index3 c = tileCoord(st, t);
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int a = c.i + dx, b = c.j + dy, e = c.k + dz;
+                const bool inside = a >= 0 && b >= 0 && e >= 0 && a < st.tilesX && b < st.tilesY && e < st.tilesZ;
+                fn(std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)),
+                   inside ? std::int64_t(a + st.tilesX * (b + st.tilesY * e)) : std::int64_t(-1));
+            }
+}
+
 TileCtx tileCtx(const Stage2State& st, std::size_t slot) {
-    const std::uint32_t t = st.activeTiles[slot];
+    const Index3 t = tileCoord(st, st.activeTiles[slot]);
     TileCtx c;
     c.slot = slot;
-    const int ti = int(t % std::uint32_t(st.tilesX));
-    const int tj = int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY));
-    const int tk = int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)));
-    c.i0 = ti * kTileSize;
-    c.j0 = tj * kTileSize;
-    c.k0 = tk * kTileSize;
+    c.i0 = t.i * kTileSize;
+    c.j0 = t.j * kTileSize;
+    c.k0 = t.k * kTileSize;
     c.ni = std::min(kTileSize, st.dims.nx - c.i0);
     c.nj = std::min(kTileSize, st.dims.ny - c.j0);
     c.nk = std::min(kTileSize, st.dims.nz - c.k0);
@@ -250,11 +274,9 @@ Stage2State::Stage2State(const Dims& d)
       reached(d.count(), false) {}
 
 std::ptrdiff_t Stage2State::poolIndex(std::size_t v) const {
-    const Index3 p = dims.coord(v);
-    const std::int32_t s = tileSlot[std::size_t(p.i / kTileSize) +
-                                    std::size_t(tilesX) * (std::size_t(p.j / kTileSize) +
-                                                           std::size_t(tilesY) * std::size_t(p.k / kTileSize))];
+    const std::int32_t s = tileSlot[tileOf(*this, v)];
     if (s < 0) return -1;
+    const Index3 p = dims.coord(v);
     return std::ptrdiff_t(std::size_t(s) * kTileVoxels) + (p.i % kTileSize) +
            kTileSize * ((p.j % kTileSize) + kTileSize * (p.k % kTileSize));
 }
@@ -266,17 +288,15 @@ double Stage2State::at(const std::vector<double>& field, std::size_t v, double a
 
 double& Stage2State::ref(std::vector<double>& field, std::size_t v) {
     if (poolIndex(v) < 0) {
-        const Index3 p = dims.coord(v);
-        activateTile(std::uint32_t(p.i / kTileSize + tilesX * (p.j / kTileSize + tilesY * (p.k / kTileSize))));
+        activateTile(tileOf(*this, v));
         refreshTiles();
     }
     const std::size_t p = std::size_t(poolIndex(v));
     const std::size_t slot = p / kTileVoxels;
     nearSender[slot] = 1;  // a hand-set value is worked on by the next step: the whole tile is
-    const Index3 at = dims.coord(v);
-    const int i0 = at.i / kTileSize * kTileSize, j0 = at.j / kTileSize * kTileSize, k0 = at.k / kTileSize * kTileSize;
-    const int ni = std::min(kTileSize, dims.nx - i0), nj = std::min(kTileSize, dims.ny - j0),
-              nk = std::min(kTileSize, dims.nz - k0);
+    const Index3 t = tileCoord(*this, activeTiles[slot]);
+    const int ni = std::min(kTileSize, dims.nx - t.i * kTileSize), nj = std::min(kTileSize, dims.ny - t.j * kTileSize),
+              nk = std::min(kTileSize, dims.nz - t.k * kTileSize);
     for (int r = 0; r < 64; ++r)
         workMask[slot][std::size_t(r)] = (r & 7) < nj && (r >> 3) < nk ? std::uint8_t((1u << ni) - 1u) : 0;
     return field[p];
@@ -301,23 +321,11 @@ void Stage2State::activateTile(std::uint32_t tile) {
 
 void Stage2State::refreshTiles() {
     neighbourBase.resize(activeTiles.size());
-    for (std::size_t s = 0; s < activeTiles.size(); ++s) {
-        const std::uint32_t t = activeTiles[s];
-        const int ti = int(t % std::uint32_t(tilesX));
-        const int tj = int((t / std::uint32_t(tilesX)) % std::uint32_t(tilesY));
-        const int tk = int(t / (std::uint32_t(tilesX) * std::uint32_t(tilesY)));
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int a = ti + dx, b = tj + dy, c = tk + dz;
-                    std::int64_t base = -1;
-                    if (a >= 0 && b >= 0 && c >= 0 && a < tilesX && b < tilesY && c < tilesZ) {
-                        const std::int32_t n = tileSlot[std::size_t(a + tilesX * (b + tilesY * c))];
-                        if (n >= 0) base = std::int64_t(n) * std::int64_t(kTileVoxels);
-                    }
-                    neighbourBase[s][std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1))] = base;
-                }
-    }
+    for (std::size_t s = 0; s < activeTiles.size(); ++s)
+        forEachTileAround(*this, activeTiles[s], [&](std::size_t n, std::int64_t tile) {
+            const std::int32_t slot = tile < 0 ? -1 : tileSlot[std::size_t(tile)];
+            neighbourBase[s][n] = slot < 0 ? -1 : std::int64_t(slot) * std::int64_t(kTileVoxels);
+        });
     slotsInOrder.resize(activeTiles.size());
     for (std::size_t s = 0; s < activeTiles.size(); ++s) slotsInOrder[s] = std::uint32_t(s);
     std::sort(slotsInOrder.begin(), slotsInOrder.end(),
@@ -332,22 +340,10 @@ bool wetTile(Stage2State& st, std::uint32_t t) {
     st.activateTile(t);
     if (st.tileWet[t]) return st.activeTiles.size() != before;
     st.tileWet[t] = 1;
-    const int ti = int(t % std::uint32_t(st.tilesX));
-    const int tj = int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY));
-    const int tk = int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)));
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int a = ti + dx, b = tj + dy, c = tk + dz;
-                if (a >= 0 && b >= 0 && c >= 0 && a < st.tilesX && b < st.tilesY && c < st.tilesZ)
-                    st.activateTile(std::uint32_t(a + st.tilesX * (b + st.tilesY * c)));
-            }
+    forEachTileAround(st, t, [&](std::size_t, std::int64_t tile) {
+        if (tile >= 0) st.activateTile(std::uint32_t(tile));
+    });
     return st.activeTiles.size() != before;
-}
-
-std::uint32_t tileOf(const Stage2State& st, std::size_t v) {
-    const Index3 p = st.dims.coord(v);
-    return std::uint32_t(p.i / kTileSize + st.tilesX * (p.j / kTileSize + st.tilesY * (p.k / kTileSize)));
 }
 
 }  // namespace
