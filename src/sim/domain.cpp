@@ -4,17 +4,11 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/vec3.h"
 #include "sim/noise.h"
 
 namespace cavesim {
 namespace {
-
-double dot(const Vec3d& a, const Vec3d& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-Vec3d sub(const Vec3d& a, const Vec3d& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
 
 /// Distance from p to the segment ab (index units).
 double segmentDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
@@ -23,7 +17,7 @@ double segmentDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
     double t = len2 > 0 ? dot(ap, ab) / len2 : 0.0;
     t = std::clamp(t, 0.0, 1.0);
     const Vec3d q{a[0] + t * ab[0] - p[0], a[1] + t * ab[1] - p[1], a[2] + t * ab[2] - p[2]};
-    return std::sqrt(dot(q, q));
+    return norm(q);
 }
 
 std::vector<std::size_t> boxVoxels(const Dims& d, const VoxelBox& b) {
