@@ -249,6 +249,13 @@ inline double offerValue(double pv, double nv, double sc, double pu, double fr, 
     return (num != 0 ? (num / nv) * fr : 0.0) * sc;
 }
 
+/// 1 / |offset| of each slot, copied out of `slots()` for the inner loops.
+std::array<double, 26> invLengths() {
+    std::array<double, 26> out{};
+    for (std::size_t sl = 0; sl < 26; ++sl) out[sl] = slots()[sl].invLength;
+    return out;
+}
+
 std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
     std::vector<fastmarch::Seed> seeds;
     for (const auto& sink : dom.sinkVoxels)
@@ -487,8 +494,7 @@ double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage
 
 void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight weight, Stage2State& st) {
     const bool proportional = weight == TransportWeight::kProportional;
-    std::array<double, 26> invLength{};
-    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const std::array<double, 26> invLength = invLengths();
     const std::vector<double>& water = st.water;
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
@@ -572,8 +578,7 @@ double offerOf(const Domain& dom, const Grid3<double>& P, TransportWeight weight
 
 void computeAcceptance(const Domain& dom, const Grid3<double>& P, TransportWeight weight, Stage2State& st) {
     const bool proportional = weight == TransportWeight::kProportional;
-    std::array<double, 26> invLength{};
-    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const std::array<double, 26> invLength = invLengths();
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
         const TileMask& work = st.workMask[c.slot];
@@ -609,8 +614,7 @@ void computeAcceptance(const Domain& dom, const Grid3<double>& P, TransportWeigh
 std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, TransportWeight weight,
                                     Stage2State& st) {
     const bool proportional = weight == TransportWeight::kProportional;
-    std::array<double, 26> invLength{};
-    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const std::array<double, 26> invLength = invLengths();
     const Dims& d = dom.dims;
     // f_c: what each sender's offers bring, times the receivers' acceptance (read-only water).
     forEachTile(st, [&](const TileCtx& c) {
@@ -875,6 +879,14 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     }
     std::vector<std::size_t> changed, conducting;
     double stored = 0;
+    // Water and the settled pressure field into the domain.
+    const auto publish = [&] {
+        pressure.settle(rate);
+        for (std::size_t v = 0; v < n; ++v) {
+            dom.water[v] = float(st.water[v]);
+            dom.pressure[v] = float(pressure.value()[v]);
+        }
+    };
 
     for (int it = 1; it <= g.iterations; ++it) {
         Stage2Record rec;
@@ -926,11 +938,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         res.iterations = it;
 
         if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
-            pressure.settle(rate);  // the whole field for the picture
-            for (std::size_t v = 0; v < n; ++v) {
-                dom.water[v] = float(st.water[v]);
-                dom.pressure[v] = float(pressure.value()[v]);
-            }
+            publish();  // the whole field for the picture
             snapshot(it, dom);
         }
         reportProgress(progress, "stage 2", it, g.iterations);
@@ -938,11 +946,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
 
     res.activeTiles = long(st.activeTiles.size());
     res.tiles = long(st.tileSlot.size());
-    pressure.settle(rate);  // the sweeps that waited beyond the water
-    for (std::size_t v = 0; v < n; ++v) {
-        dom.water[v] = float(st.water[v]);
-        dom.pressure[v] = float(pressure.value()[v]);
-    }
+    publish();  // the sweeps that waited beyond the water
     const double net = stored - (res.totalInjected - res.totalDrained);
     res.waterBalanceRelError = res.totalInjected > 0 ? std::abs(net) / res.totalInjected : 0.0;
     if (!(res.waterBalanceRelError < 1e-6)) {
