@@ -73,25 +73,20 @@ Domain emptyDomain(const Dims& dims, double voxelSize, float porosity) {
 
 void placeTerminals(Domain& dom, const Scenario& s) {
     const Dims& d = dom.dims;
-    for (const SourceSpec& src : s.sources) {
-        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
-        dom.sourcePressure.push_back(src.pressure);
-        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
-    }
-    for (const SinkSpec& snk : s.sinks) {
-        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
-        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
-    }
-    if (!s.siteData) return;
-    for (const SourceSpec& src : s.siteData->sources) {
-        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
-        dom.sourcePressure.push_back(src.pressure);
-        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
-    }
-    for (const SinkSpec& snk : s.siteData->sinks) {
-        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
-        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
-    }
+    // The scenario's terminals, then the site's.
+    const auto place = [&](const std::vector<SourceSpec>& sources, const std::vector<SinkSpec>& sinks) {
+        for (const SourceSpec& src : sources) {
+            dom.sourceVoxels.push_back(boxVoxels(d, src.box));
+            dom.sourcePressure.push_back(src.pressure);
+            for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
+        }
+        for (const SinkSpec& snk : sinks) {
+            dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
+            for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
+        }
+    };
+    place(s.sources, s.sinks);
+    if (s.siteData) place(s.siteData->sources, s.siteData->sinks);
 }
 
 Domain buildDomain(const Scenario& s, Rng& rng) {
@@ -116,8 +111,7 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
             for (int j = std::max(0, int(o.center[1]) - r - 1); j <= std::min(d.ny - 1, int(o.center[1]) + r + 1); ++j)
                 for (int i = std::max(0, int(o.center[0]) - r - 1); i <= std::min(d.nx - 1, int(o.center[0]) + r + 1);
                      ++i) {
-                    const double dist = std::sqrt(dot(sub({double(i), double(j), double(k)}, o.center),
-                                                      sub({double(i), double(j), double(k)}, o.center)));
+                    const double dist = distance(o.center, {double(i), double(j), double(k)});
                     if (dist >= o.radius) continue;
                     // Porosity falls quadratically from the surrounding rock at the rim to the core value.
                     const double t = dist / o.radius;
@@ -128,7 +122,7 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
     }
 
     for (const PlaneFeature& p : s.planes) {
-        const double nlen = std::sqrt(dot(p.normal, p.normal));
+        const double nlen = norm(p.normal);
         const Vec3d n{p.normal[0] / nlen, p.normal[1] / nlen, p.normal[2] / nlen};
         for (int k = 0; k < d.nz; ++k)
             for (int j = 0; j < d.ny; ++j)
