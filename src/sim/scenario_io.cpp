@@ -560,12 +560,14 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
 void validateScenario(const Scenario& s) {
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
     const ParamSection& sink = sectionOf([](Scenario& p) { return &p.sinks[0].box; });
-    for (std::size_t i = 0; i < s.sources.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            if (s.sources[i].box.lo[c] < 0 || s.sources[i].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sources[i].line) + ": " + source.header() + " " + std::to_string(i + 1) +
+    const auto checkInside = [&](const ParamSection& section, const VoxelBox& box, int line, std::size_t i) {
+        for (int c = 0; c < 3; ++c)
+            if (box.lo[c] < 0 || box.hi[c] >= s.size[c])
+                throw InputError(where(s, line) + ": " + section.header() + " " + std::to_string(i + 1) +
                                  " lies outside the domain");
-        }
+    };
+    for (std::size_t i = 0; i < s.sources.size(); ++i) {
+        checkInside(source, s.sources[i].box, s.sources[i].line, i);
         for (std::size_t j = 0; j < s.sinks.size(); ++j) {
             if (boxesOverlap(s.sources[i].box, s.sinks[j].box)) {
                 throw InputError(where(s, s.sinks[j].line) + ": key '" + sink.path + "' (entry " +
@@ -575,11 +577,7 @@ void validateScenario(const Scenario& s) {
             }
         }
     }
-    for (std::size_t j = 0; j < s.sinks.size(); ++j)
-        for (int c = 0; c < 3; ++c)
-            if (s.sinks[j].box.lo[c] < 0 || s.sinks[j].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sinks[j].line) + ": " + sink.header() + " " + std::to_string(j + 1) +
-                                 " lies outside the domain");
+    for (std::size_t j = 0; j < s.sinks.size(); ++j) checkInside(sink, s.sinks[j].box, s.sinks[j].line, j);
     // Stage 1 keeps `sink_gap` voxels of rock around every sink; an aim point there would draw the
     // protochannels onto the sink.
     if (s.stage1.enabled) {
