@@ -17,29 +17,59 @@
 
 namespace cavesim {
 
+/// The tighter of two memory limits in bytes, where 0 (or less) stands for "none known".
+inline double tighterLimit(double a, double b) {
+    if (!(b > 0)) return a;
+    return a > 0 ? std::min(a, b) : b;
+}
+
+/// The machine's physical memory in bytes; 0 if unknown.
+inline double physicalMemoryBytes() {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && page > 0 ? double(pages) * double(page) : 0;
+}
+
+/// The soft limit of `resource` (RLIMIT_AS, RLIMIT_DATA) in bytes; 0 when unlimited or unknown.
+inline double resourceLimitBytes(int resource) {
+    rlimit r{};
+    return ::getrlimit(resource, &r) == 0 && r.rlim_cur != RLIM_INFINITY ? double(r.rlim_cur) : 0;
+}
+
 /// Bytes this process may allocate at most by the machine's physical memory and the
 /// address-space and data-segment limits; 0 if nothing is known.
 inline double memoryLimitBytes() {
-    double limit = 0;
-    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-    if (pages > 0 && page > 0) limit = double(pages) * double(page);
-    for (int resource : {RLIMIT_AS, RLIMIT_DATA}) {
-        rlimit r{};
-        if (::getrlimit(resource, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
-            limit = limit > 0 ? std::min(limit, double(r.rlim_cur)) : double(r.rlim_cur);
-    }
+    double limit = physicalMemoryBytes();
+    for (int resource : {RLIMIT_AS, RLIMIT_DATA}) limit = tighterLimit(limit, resourceLimitBytes(resource));
     return limit;
+}
+
+/// The value of the line "`key`: N kB" of /proc text (/proc/meminfo, /proc/self/status), in
+/// bytes; 0 when absent.
+inline double parseProcKilobytes(const std::string& text, const std::string& key) {
+    const std::string format = key + ": %llu kB";
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        unsigned long long kb = 0;
+        if (std::sscanf(line.c_str(), format.c_str(), &kb) == 1) return double(kb) * 1024.0;
+    }
+    return 0;
 }
 
 /// `MemAvailable` of /proc/meminfo text, in bytes; 0 when absent.
 inline double parseMemAvailable(const std::string& meminfo) {
-    std::istringstream in(meminfo);
-    std::string line;
-    while (std::getline(in, line)) {
-        unsigned long long kb = 0;
-        if (std::sscanf(line.c_str(), "MemAvailable: %llu kB", &kb) == 1) return double(kb) * 1024.0;
-    }
-    return 0;
+    return parseProcKilobytes(meminfo, "MemAvailable");
+}
+
+/// The whole of a (small) file, as the `read` of `cgroupLimitUpwards` wants it: false when it
+/// cannot be opened.
+inline bool readWholeFile(const std::string& path, std::string& text) {
+    std::ifstream f(path);
+    if (!f) return false;
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    text = ss.str();
+    return true;
 }
 
 /// A cgroup memory limit file's contents (v2 `memory.max`: bytes or "max"; v1
@@ -93,8 +123,7 @@ double cgroupLimitUpwards(const std::string& mount, std::string path, const std:
     while (true) {
         std::string text;
         if (read(mount + (path == "/" ? std::string() : path) + "/" + file, text)) {
-            const double v = parseCgroupMemoryLimit(text);
-            if (v > 0) limit = limit > 0 ? std::min(limit, v) : v;
+            limit = tighterLimit(limit, parseCgroupMemoryLimit(text));
         }
         if (path.empty() || path == "/") break;
         const std::size_t cut = path.find_last_of('/');
@@ -116,7 +145,7 @@ struct MemoryLimits {
     double usable() const {
         double u = 0;
         for (double v : {available > 0 ? available : physical, addressSpace, dataSegment, cgroup})
-            if (v > 0) u = u > 0 ? std::min(u, v) : v;
+            u = tighterLimit(u, v);
         return u;
     }
     /// "MemAvailable 21,000 MB, cgroup limit 8,000 MB, ..." listing the known limits.
@@ -138,45 +167,29 @@ struct MemoryLimits {
 
 /// Reads the limits of this process from /proc and /sys/fs/cgroup.
 inline MemoryLimits readMemoryLimits() {
-    const auto read = [](const std::string& path, std::string& text) {
-        std::ifstream f(path);
-        if (!f) return false;
-        std::ostringstream ss;
-        ss << f.rdbuf();
-        text = ss.str();
-        return true;
-    };
     MemoryLimits m;
-    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-    if (pages > 0 && page > 0) m.physical = double(pages) * double(page);
+    m.physical = physicalMemoryBytes();
     std::string text;
-    if (read("/proc/meminfo", text)) m.available = parseMemAvailable(text);
-    rlimit r{};
-    if (::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY) m.addressSpace = double(r.rlim_cur);
-    if (::getrlimit(RLIMIT_DATA, &r) == 0 && r.rlim_cur != RLIM_INFINITY) m.dataSegment = double(r.rlim_cur);
-    if (read("/proc/self/cgroup", text)) {
+    if (readWholeFile("/proc/meminfo", text)) m.available = parseMemAvailable(text);
+    m.addressSpace = resourceLimitBytes(RLIMIT_AS);
+    m.dataSegment = resourceLimitBytes(RLIMIT_DATA);
+    if (readWholeFile("/proc/self/cgroup", text)) {
         const CgroupPaths p = parseProcCgroup(text);
         double v2 = 0, v1 = 0;
         if (p.hasV2) {
-            v2 = cgroupLimitUpwards("/sys/fs/cgroup", p.v2, "memory.max", read);
-            if (v2 == 0) v2 = cgroupLimitUpwards("/sys/fs/cgroup/unified", p.v2, "memory.max", read);
+            v2 = cgroupLimitUpwards("/sys/fs/cgroup", p.v2, "memory.max", readWholeFile);
+            if (v2 == 0) v2 = cgroupLimitUpwards("/sys/fs/cgroup/unified", p.v2, "memory.max", readWholeFile);
         }
-        if (p.hasV1) v1 = cgroupLimitUpwards("/sys/fs/cgroup/memory", p.v1, "memory.limit_in_bytes", read);
-        for (double v : {v2, v1})
-            if (v > 0) m.cgroup = m.cgroup > 0 ? std::min(m.cgroup, v) : v;
+        if (p.hasV1) v1 = cgroupLimitUpwards("/sys/fs/cgroup/memory", p.v1, "memory.limit_in_bytes", readWholeFile);
+        m.cgroup = tighterLimit(v2, v1);
     }
     return m;
 }
 
 /// Peak resident memory of this process so far (VmHWM of /proc/self/status), in bytes; 0 if unknown.
 inline double peakResidentBytes() {
-    std::ifstream f("/proc/self/status");
-    std::string line;
-    while (std::getline(f, line)) {
-        unsigned long long kb = 0;
-        if (std::sscanf(line.c_str(), "VmHWM: %llu kB", &kb) == 1) return double(kb) * 1024.0;
-    }
-    return 0;
+    std::string text;
+    return readWholeFile("/proc/self/status", text) ? parseProcKilobytes(text, "VmHWM") : 0;
 }
 
 }  // namespace cavesim

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/vec3.h"
+
 namespace cavesim {
 
 /// A closed cave surface: triangles wound counter-clockwise seen from outside the cave (from the
@@ -25,10 +27,9 @@ struct SurfaceMesh {
 /// triangle. Doubles inside, so round-off does not depend on the vertex order's magnitude.
 inline std::array<float, 3> faceNormal(const std::array<float, 3>& a, const std::array<float, 3>& b,
                                        const std::array<float, 3>& c) {
-    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-    const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    const double len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    const auto wide = [](const std::array<float, 3>& p) { return Vec3d{p[0], p[1], p[2]}; };
+    const Vec3d n = cross(sub(wide(b), wide(a)), sub(wide(c), wide(a)));
+    const double len2 = dot(n, n);
     if (!(len2 > 0.0)) return {0.f, 0.f, 0.f};
     const double inv = 1.0 / std::sqrt(len2);
     return {float(n[0] * inv), float(n[1] * inv), float(n[2] * inv)};

@@ -206,7 +206,6 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     value_ = Grid3<double>(dims, cap);
     seed_.assign(dims.count(), 0);
     pending_.clear();
-    MinHeap heap;
     for (const Seed& s : seeds) {
         CAVESIM_CHECK(s.voxel < dims.count(), "EikonalField::solve: seed voxel " + std::to_string(s.voxel) +
                                                   " outside a grid of " + std::to_string(dims.count()));
@@ -214,6 +213,12 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
         if (!seed_[s.voxel] || v < value_[s.voxel]) value_[s.voxel] = v;
         seed_[s.voxel] = 1;
     }
+    // The seeds into the queue, then the whole sweep.
+    const auto run = [&](auto& queue) {
+        for (std::size_t n = 0; n < seed_.size(); ++n)
+            if (seed_[n]) queue.push({value_[n], n});
+        relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
+    };
     useBuckets_ = false;
     buckets_ = Buckets{};
     if (stencil == Stencil::kAvalanche26) {
@@ -228,15 +233,12 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
             buckets_.bucket.resize(std::size_t(count) + 2);
             buckets_.lowest = buckets_.bucket.size() - 1;
             BucketQueue queue{buckets_};
-            for (std::size_t n = 0; n < seed_.size(); ++n)
-                if (seed_[n]) queue.push({value_[n], n});
-            relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
+            run(queue);
             return;
         }
     }
-    for (std::size_t n = 0; n < seed_.size(); ++n)
-        if (seed_[n]) heap.push({value_[n], n});
-    relax(dims_, slowness, seed_, cap_, stencil_, value_, heap, nullptr);
+    MinHeap heap;
+    run(heap);
 }
 
 std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vector<std::size_t>& changed,

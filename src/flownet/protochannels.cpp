@@ -62,15 +62,15 @@ ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult&
             const NodeId u = net.arcTarget[a];
             if (u >= n || flow[a] == 0) continue;
             const Vec3d pu = position(u);
-            const double len = std::sqrt((pu[0] - pv[0]) * (pu[0] - pv[0]) + (pu[1] - pv[1]) * (pu[1] - pv[1]) +
-                                         (pu[2] - pv[2]) * (pu[2] - pv[2]));
+            const double len = distance(pv, pu);
             // Outflow v→u points along u − v; inflow u→v (flow[a] < 0) along v − u: both flow[a]·(u − v).
             for (int c = 0; c < 3; ++c) sum[c] += flow[a] * (pu[c] - pv[c]) / len;
         }
         return sum;
     };
+    // h / |h| divided component by component (not vec3.h `normalized`, which multiplies by 1 / |h|).
     const auto normalised = [](Vec3d h) {
-        const double len = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+        const double len = norm(h);
         if (len > 0)
             for (double& c : h) c /= len;
         return h;
@@ -98,8 +98,8 @@ ProtochannelTree traceProtochannels(const FlowNetwork& net, const MaxFlowResult&
             const double in = -flow[a];
             if (!(in > 0)) continue;
             const Vec3d pu = position(u);
-            const double dd = (pu[0] - target[0]) * (pu[0] - target[0]) + (pu[1] - target[1]) * (pu[1] - target[1]) +
-                              (pu[2] - target[2]) * (pu[2] - target[2]);
+            const Vec3d off = sub(pu, target);
+            const double dd = dot(off, off);
             if (best < 0 || dd < bestD || (dd == bestD && (in > bestFlow || (in == bestFlow && u < best)))) {
                 best = u;
                 bestD = dd;

@@ -4,17 +4,11 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/vec3.h"
 #include "sim/noise.h"
 
 namespace cavesim {
 namespace {
-
-double dot(const Vec3d& a, const Vec3d& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-Vec3d sub(const Vec3d& a, const Vec3d& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
 
 /// Distance from p to the segment ab (index units).
 double segmentDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
@@ -23,7 +17,7 @@ double segmentDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
     double t = len2 > 0 ? dot(ap, ab) / len2 : 0.0;
     t = std::clamp(t, 0.0, 1.0);
     const Vec3d q{a[0] + t * ab[0] - p[0], a[1] + t * ab[1] - p[1], a[2] + t * ab[2] - p[2]};
-    return std::sqrt(dot(q, q));
+    return norm(q);
 }
 
 std::vector<std::size_t> boxVoxels(const Dims& d, const VoxelBox& b) {
@@ -79,25 +73,20 @@ Domain emptyDomain(const Dims& dims, double voxelSize, float porosity) {
 
 void placeTerminals(Domain& dom, const Scenario& s) {
     const Dims& d = dom.dims;
-    for (const SourceSpec& src : s.sources) {
-        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
-        dom.sourcePressure.push_back(src.pressure);
-        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
-    }
-    for (const SinkSpec& snk : s.sinks) {
-        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
-        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
-    }
-    if (!s.siteData) return;
-    for (const SourceSpec& src : s.siteData->sources) {
-        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
-        dom.sourcePressure.push_back(src.pressure);
-        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
-    }
-    for (const SinkSpec& snk : s.siteData->sinks) {
-        dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
-        for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
-    }
+    // The scenario's terminals, then the site's.
+    const auto place = [&](const std::vector<SourceSpec>& sources, const std::vector<SinkSpec>& sinks) {
+        for (const SourceSpec& src : sources) {
+            dom.sourceVoxels.push_back(boxVoxels(d, src.box));
+            dom.sourcePressure.push_back(src.pressure);
+            for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
+        }
+        for (const SinkSpec& snk : sinks) {
+            dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
+            for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
+        }
+    };
+    place(s.sources, s.sinks);
+    if (s.siteData) place(s.siteData->sources, s.siteData->sinks);
 }
 
 Domain buildDomain(const Scenario& s, Rng& rng) {
@@ -122,8 +111,7 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
             for (int j = std::max(0, int(o.center[1]) - r - 1); j <= std::min(d.ny - 1, int(o.center[1]) + r + 1); ++j)
                 for (int i = std::max(0, int(o.center[0]) - r - 1); i <= std::min(d.nx - 1, int(o.center[0]) + r + 1);
                      ++i) {
-                    const double dist = std::sqrt(dot(sub({double(i), double(j), double(k)}, o.center),
-                                                      sub({double(i), double(j), double(k)}, o.center)));
+                    const double dist = distance(o.center, {double(i), double(j), double(k)});
                     if (dist >= o.radius) continue;
                     // Porosity falls quadratically from the surrounding rock at the rim to the core value.
                     const double t = dist / o.radius;
@@ -134,7 +122,7 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
     }
 
     for (const PlaneFeature& p : s.planes) {
-        const double nlen = std::sqrt(dot(p.normal, p.normal));
+        const double nlen = norm(p.normal);
         const Vec3d n{p.normal[0] / nlen, p.normal[1] / nlen, p.normal[2] / nlen};
         for (int k = 0; k < d.nz; ++k)
             for (int j = 0; j < d.ny; ++j)

@@ -1,12 +1,12 @@
 #include "sim/parameters.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text.h"
 
 namespace cavesim {
 namespace {
@@ -770,14 +770,8 @@ std::pair<const ParamSection*, const Param*> findParam(const Scenario& scenario,
 
 namespace {
 
-std::string shortest(double v) {
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
-
 std::string realText(double v) {
-    std::string t = shortest(v);
+    std::string t = shortestText(v);
     if (t.find_first_of(".eEni") == std::string::npos) t += ".0";
     return t;
 }
@@ -797,7 +791,7 @@ std::string docNumber(double v) {
         const int e = int(std::lround(std::log10(a)));
         if (e < 10 && std::pow(10.0, e) == a) return std::string(v < 0 ? "-" : "") + "10" + kSup[e];
     }
-    return shortest(v);
+    return shortestText(v);
 }
 
 std::string typeText(const Param& p) {

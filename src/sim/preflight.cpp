@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/text.h"
 
 namespace cavesim {
 namespace {
@@ -25,9 +26,7 @@ constexpr double kIterationNs = 40;
 constexpr double kLargestZone = 1.3;  // the largest zone against an equal share of the block (fig10 k = 1…3)
 
 std::string megabytes(double bytes) {
-    std::string s = std::to_string(long(std::ceil(bytes / 1e6)));
-    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
-    return s + " MB";
+    return withThousands(long(std::ceil(bytes / 1e6))) + " MB";
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +15,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "sim/default_scenario.h"
 #include "sim/parameters.h"
 #include "sim/scenario_toml.h"
@@ -24,13 +24,6 @@ namespace cavesim {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-/// Shortest decimal text that reads back as the same double (0.3, not 0.29999999999999999).
-std::string shortest(double v) {
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
 
 /// A string value as it would be written in TOML: quotes and control characters escaped, so an
 /// error message stays on one line and shows what the file holds.
@@ -61,7 +54,7 @@ void describeInto(const toml::node& n, std::string& out) {
     } else if (n.is_floating_point()) {
         // A float is shown as one (4.0, not 4), so "must be a whole number" does not quote a
         // value that looks whole.
-        std::string t = shortest(n.as_floating_point()->get());
+        std::string t = shortestText(n.as_floating_point()->get());
         if (t.find_first_of(".eEni") == std::string::npos) t += ".0";
         out += t;
     } else if (n.is_integer()) {
@@ -385,10 +378,10 @@ void readParam(TableReader& r, const ParamSection& section, const Param& p, void
             // Blame the key the file gives; if it gives only p_rate, the default channel rate is the bound.
             if (n)
                 r.fail(key, n,
-                       "must not exceed " + pRate.key + " (" + shortest(g2.pRate) +
+                       "must not exceed " + pRate.key + " (" + shortestText(g2.pRate) +
                            "): channels resist flow less than rock");
             r.fail(pRate.key, r.get(pRate.key),
-                   "must be at least " + key + " (" + shortest(g2.pRateChannel) +
+                   "must be at least " + key + " (" + shortestText(g2.pRateChannel) +
                        ", the default): channels resist flow less than rock; lower " + key + " too");
         }
     }
@@ -567,12 +560,14 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
 void validateScenario(const Scenario& s) {
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
     const ParamSection& sink = sectionOf([](Scenario& p) { return &p.sinks[0].box; });
-    for (std::size_t i = 0; i < s.sources.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            if (s.sources[i].box.lo[c] < 0 || s.sources[i].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sources[i].line) + ": " + source.header() + " " + std::to_string(i + 1) +
+    const auto checkInside = [&](const ParamSection& section, const VoxelBox& box, int line, std::size_t i) {
+        for (int c = 0; c < 3; ++c)
+            if (box.lo[c] < 0 || box.hi[c] >= s.size[c])
+                throw InputError(where(s, line) + ": " + section.header() + " " + std::to_string(i + 1) +
                                  " lies outside the domain");
-        }
+    };
+    for (std::size_t i = 0; i < s.sources.size(); ++i) {
+        checkInside(source, s.sources[i].box, s.sources[i].line, i);
         for (std::size_t j = 0; j < s.sinks.size(); ++j) {
             if (boxesOverlap(s.sources[i].box, s.sinks[j].box)) {
                 throw InputError(where(s, s.sinks[j].line) + ": key '" + sink.path + "' (entry " +
@@ -582,11 +577,7 @@ void validateScenario(const Scenario& s) {
             }
         }
     }
-    for (std::size_t j = 0; j < s.sinks.size(); ++j)
-        for (int c = 0; c < 3; ++c)
-            if (s.sinks[j].box.lo[c] < 0 || s.sinks[j].box.hi[c] >= s.size[c])
-                throw InputError(where(s, s.sinks[j].line) + ": " + sink.header() + " " + std::to_string(j + 1) +
-                                 " lies outside the domain");
+    for (std::size_t j = 0; j < s.sinks.size(); ++j) checkInside(sink, s.sinks[j].box, s.sinks[j].line, j);
     // Stage 1 keeps `sink_gap` voxels of rock around every sink; an aim point there would draw the
     // protochannels onto the sink.
     if (s.stage1.enabled) {

@@ -21,6 +21,7 @@
 
 #include "core/error.h"
 #include "core/memory.h"
+#include "core/text.h"
 #include "core/timer.h"
 #include "fastmarch/fast_marching.h"
 #include "flownet/flow_network.h"
@@ -157,12 +158,6 @@ struct ZoneWork {
     std::vector<std::size_t> traced;      ///< result: traced voxels, in `frame`
     ZoneStats stats;
 };
-
-std::string withThousands(long v) {
-    std::string s = std::to_string(v);
-    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(std::size_t(i), ",");
-    return s;
-}
 
 }  // namespace
 

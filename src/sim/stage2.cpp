@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "fastmarch/fast_marching.h"
+#include "sim/connectivity.h"
 #include "sim/stage2_steps.h"
 
 namespace cavesim {
@@ -22,6 +23,8 @@ constexpr std::uint8_t kOpen = kSource | kSink;
 /// Voxels erosion never touches: the terminals, and rock that is not karst ([site]: air, insoluble).
 constexpr std::uint8_t kNotEroded = kOpen | kInert;
 constexpr std::uint8_t kLowRate = kChannel | kProtochannel | kSource | kSink;
+/// Voxels water conducts through from a source to a sink (what counts as connected).
+constexpr std::uint8_t kConducting = kChannel | kSource | kSink;
 
 /// Contents below this (porosity units, i.e. a 10⁻⁹ part of a voxel) stay where they are: a film
 /// too thin to flow. Listing 1 moves all of a voxel's water every iteration, so water spreads
@@ -56,16 +59,40 @@ struct TileCtx {
     const std::array<std::int64_t, 27>* nb = nullptr;
 };
 
+/// The tile id of voxel v.
+std::uint32_t tileOf(const Stage2State& st, std::size_t v) {
+    const Index3 p = st.dims.coord(v);
+    return std::uint32_t(p.i / kTileSize + st.tilesX * (p.j / kTileSize + st.tilesY * (p.k / kTileSize)));
+}
+
+/// The tile coordinates (ti, tj, tk) of tile id t.
+Index3 tileCoord(const Stage2State& st, std::uint32_t t) {
+    return {int(t % std::uint32_t(st.tilesX)), int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY)),
+            int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)))};
+}
+
+/// Calls fn(n, tile) for the 27 tiles around tile t (itself included), n = (dx+1) + 3(dy+1) + 9(dz+1)
+/// in increasing order; tile is −1 outside the grid.
+template <typename Fn>
+void forEachTileAround(const Stage2State& st, std::uint32_t t, Fn&& fn) {
+    const Index3 c = tileCoord(st, t);
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int a = c.i + dx, b = c.j + dy, e = c.k + dz;
+                const bool inside = a >= 0 && b >= 0 && e >= 0 && a < st.tilesX && b < st.tilesY && e < st.tilesZ;
+                fn(std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)),
+                   inside ? std::int64_t(a + st.tilesX * (b + st.tilesY * e)) : std::int64_t(-1));
+            }
+}
+
 TileCtx tileCtx(const Stage2State& st, std::size_t slot) {
-    const std::uint32_t t = st.activeTiles[slot];
+    const Index3 t = tileCoord(st, st.activeTiles[slot]);
     TileCtx c;
     c.slot = slot;
-    const int ti = int(t % std::uint32_t(st.tilesX));
-    const int tj = int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY));
-    const int tk = int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)));
-    c.i0 = ti * kTileSize;
-    c.j0 = tj * kTileSize;
-    c.k0 = tk * kTileSize;
+    c.i0 = t.i * kTileSize;
+    c.j0 = t.j * kTileSize;
+    c.k0 = t.k * kTileSize;
     c.ni = std::min(kTileSize, st.dims.nx - c.i0);
     c.nj = std::min(kTileSize, st.dims.ny - c.j0);
     c.nk = std::min(kTileSize, st.dims.nz - c.k0);
@@ -117,12 +144,6 @@ inline void forEachMasked(const Dims& d, const TileCtx& c, const TileMask& mask,
             fn(row + std::size_t(li), prow + std::size_t(li), li, lj, lk);
         }
     }
-}
-
-inline bool anyBit(const TileMask& m) {
-    for (std::uint8_t b : m)
-        if (b) return true;
-    return false;
 }
 
 /// Calls fn(v, pool) for every voxel of the active tiles (with `onlyNearSenders`, of the tiles
@@ -228,56 +249,18 @@ inline double offerValue(double pv, double nv, double sc, double pu, double fr, 
     return (num != 0 ? (num / nv) * fr : 0.0) * sc;
 }
 
+/// 1 / |offset| of each slot, copied out of `slots()` for the inner loops.
+std::array<double, 26> invLengths() {
+    std::array<double, 26> out{};
+    for (std::size_t sl = 0; sl < 26; ++sl) out[sl] = slots()[sl].invLength;
+    return out;
+}
+
 std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
     std::vector<fastmarch::Seed> seeds;
     for (const auto& sink : dom.sinkVoxels)
         for (std::size_t v : sink) seeds.push_back({v, 0.0, 0});
     return seeds;
-}
-
-/// Breadth-first search through conducting voxels (kChannel | kSource | kSink) from `queue`,
-/// marking `seen`.
-template <typename Seen>
-void conductingSearch(const Domain& dom, std::deque<std::size_t>& queue, Seen&& seen) {
-    const Dims& d = dom.dims;
-    const auto& nb = allNeighbours();
-    while (!queue.empty()) {
-        const std::size_t v = queue.front();
-        queue.pop_front();
-        const Index3 p = d.coord(v);
-        for (const auto& o : nb) {
-            const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
-            if (!d.contains(i, j, k)) continue;
-            const std::size_t w = d.index(i, j, k);
-            if (seen(w) || !(dom.flags[w] & (kChannel | kSource | kSink))) continue;
-            seen(w) = true;
-            queue.push_back(w);
-        }
-    }
-}
-
-std::vector<bool> sourcesIn(const Domain& dom, const std::vector<bool>& seen) {
-    std::vector<bool> out;
-    for (const auto& src : dom.sourceVoxels) {
-        bool c = false;
-        for (std::size_t v : src) c = c || seen[v];
-        out.push_back(c);
-    }
-    return out;
-}
-
-/// Sources joined to a sink through channel voxels (26-connected through kChannel | kSource | kSink).
-std::vector<bool> connectedSourcesImpl(const Domain& dom) {
-    std::vector<bool> seen(dom.dims.count(), false);
-    std::deque<std::size_t> queue;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink)
-            if (!seen[v]) {
-                seen[v] = true;
-                queue.push_back(v);
-            }
-    conductingSearch(dom, queue, [&](std::size_t w) { return seen[w]; });
-    return sourcesIn(dom, seen);
 }
 
 }  // namespace
@@ -298,11 +281,9 @@ Stage2State::Stage2State(const Dims& d)
       reached(d.count(), false) {}
 
 std::ptrdiff_t Stage2State::poolIndex(std::size_t v) const {
-    const Index3 p = dims.coord(v);
-    const std::int32_t s = tileSlot[std::size_t(p.i / kTileSize) +
-                                    std::size_t(tilesX) * (std::size_t(p.j / kTileSize) +
-                                                           std::size_t(tilesY) * std::size_t(p.k / kTileSize))];
+    const std::int32_t s = tileSlot[tileOf(*this, v)];
     if (s < 0) return -1;
+    const Index3 p = dims.coord(v);
     return std::ptrdiff_t(std::size_t(s) * kTileVoxels) + (p.i % kTileSize) +
            kTileSize * ((p.j % kTileSize) + kTileSize * (p.k % kTileSize));
 }
@@ -314,17 +295,15 @@ double Stage2State::at(const std::vector<double>& field, std::size_t v, double a
 
 double& Stage2State::ref(std::vector<double>& field, std::size_t v) {
     if (poolIndex(v) < 0) {
-        const Index3 p = dims.coord(v);
-        activateTile(std::uint32_t(p.i / kTileSize + tilesX * (p.j / kTileSize + tilesY * (p.k / kTileSize))));
+        activateTile(tileOf(*this, v));
         refreshTiles();
     }
     const std::size_t p = std::size_t(poolIndex(v));
     const std::size_t slot = p / kTileVoxels;
     nearSender[slot] = 1;  // a hand-set value is worked on by the next step: the whole tile is
-    const Index3 at = dims.coord(v);
-    const int i0 = at.i / kTileSize * kTileSize, j0 = at.j / kTileSize * kTileSize, k0 = at.k / kTileSize * kTileSize;
-    const int ni = std::min(kTileSize, dims.nx - i0), nj = std::min(kTileSize, dims.ny - j0),
-              nk = std::min(kTileSize, dims.nz - k0);
+    const Index3 t = tileCoord(*this, activeTiles[slot]);
+    const int ni = std::min(kTileSize, dims.nx - t.i * kTileSize), nj = std::min(kTileSize, dims.ny - t.j * kTileSize),
+              nk = std::min(kTileSize, dims.nz - t.k * kTileSize);
     for (int r = 0; r < 64; ++r)
         workMask[slot][std::size_t(r)] = (r & 7) < nj && (r >> 3) < nk ? std::uint8_t((1u << ni) - 1u) : 0;
     return field[p];
@@ -349,23 +328,11 @@ void Stage2State::activateTile(std::uint32_t tile) {
 
 void Stage2State::refreshTiles() {
     neighbourBase.resize(activeTiles.size());
-    for (std::size_t s = 0; s < activeTiles.size(); ++s) {
-        const std::uint32_t t = activeTiles[s];
-        const int ti = int(t % std::uint32_t(tilesX));
-        const int tj = int((t / std::uint32_t(tilesX)) % std::uint32_t(tilesY));
-        const int tk = int(t / (std::uint32_t(tilesX) * std::uint32_t(tilesY)));
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int a = ti + dx, b = tj + dy, c = tk + dz;
-                    std::int64_t base = -1;
-                    if (a >= 0 && b >= 0 && c >= 0 && a < tilesX && b < tilesY && c < tilesZ) {
-                        const std::int32_t n = tileSlot[std::size_t(a + tilesX * (b + tilesY * c))];
-                        if (n >= 0) base = std::int64_t(n) * std::int64_t(kTileVoxels);
-                    }
-                    neighbourBase[s][std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1))] = base;
-                }
-    }
+    for (std::size_t s = 0; s < activeTiles.size(); ++s)
+        forEachTileAround(*this, activeTiles[s], [&](std::size_t n, std::int64_t tile) {
+            const std::int32_t slot = tile < 0 ? -1 : tileSlot[std::size_t(tile)];
+            neighbourBase[s][n] = slot < 0 ? -1 : std::int64_t(slot) * std::int64_t(kTileVoxels);
+        });
     slotsInOrder.resize(activeTiles.size());
     for (std::size_t s = 0; s < activeTiles.size(); ++s) slotsInOrder[s] = std::uint32_t(s);
     std::sort(slotsInOrder.begin(), slotsInOrder.end(),
@@ -380,22 +347,10 @@ bool wetTile(Stage2State& st, std::uint32_t t) {
     st.activateTile(t);
     if (st.tileWet[t]) return st.activeTiles.size() != before;
     st.tileWet[t] = 1;
-    const int ti = int(t % std::uint32_t(st.tilesX));
-    const int tj = int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY));
-    const int tk = int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)));
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int a = ti + dx, b = tj + dy, c = tk + dz;
-                if (a >= 0 && b >= 0 && c >= 0 && a < st.tilesX && b < st.tilesY && c < st.tilesZ)
-                    st.activateTile(std::uint32_t(a + st.tilesX * (b + st.tilesY * c)));
-            }
+    forEachTileAround(st, t, [&](std::size_t, std::int64_t tile) {
+        if (tile >= 0) st.activateTile(std::uint32_t(tile));
+    });
     return st.activeTiles.size() != before;
-}
-
-std::uint32_t tileOf(const Stage2State& st, std::size_t v) {
-    const Index3 p = st.dims.coord(v);
-    return std::uint32_t(p.i / kTileSize + st.tilesX * (p.j / kTileSize + st.tilesY * (p.k / kTileSize)));
 }
 
 }  // namespace
@@ -438,35 +393,45 @@ float porosityRate(float R, float R0, const Stage2Options& g) {
     return float(g.pRate * std::pow(g.pRateChannel / g.pRate, double(step) / kSteps));
 }
 
-Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
-    Grid3<float> rate(dom.dims, float(g.pRate));
-    const bool byPorosity = g.rateRule == RateRule::kPorosity;
+namespace {
+
+/// The pressure rate of voxel v as its flags and porosity stand now (the rule `rateField`
+/// documents). Erosion only raises porosity and adds flags, so a voxel's rate only falls.
+float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g) {
+    const std::uint8_t f = dom.flags[v];
+    if (g.rateRule == RateRule::kChannelFlag) return float(f & kLowRate ? g.pRateChannel : g.pRate);
     // [[rock.channel]] conduits are given open (the paper's synthetic protochannels of Figures 8–9);
     // stage-1 protochannels follow their porosity.
-    const std::uint8_t low = byPorosity ? std::uint8_t(kChannel | kOpen | kFeatureChannel) : kLowRate;
-    for (std::size_t v = 0; v < rate.size(); ++v) {
-        if (dom.flags[v] & low)
-            rate[v] = float(g.pRateChannel);
-        else if (byPorosity && (dom.flags[v] & kProtochannel))
-            rate[v] = porosityRate(dom.porosity[v], dom.porosity0[v], g);
+    if (f & (kChannel | kOpen | kFeatureChannel)) return float(g.pRateChannel);
+    if (f & kProtochannel) return porosityRate(dom.porosity[v], dom.porosity0[v], g);
+    return float(g.pRate);
+}
+
+/// After voxel v's porosity or flags changed: lowers its rate to `voxelRate` and lists it for the
+/// pressure decrease when that is lower.
+inline void lowerRate(const Domain& dom, const Stage2Options& g, std::size_t v, Grid3<float>& rate,
+                      std::vector<std::size_t>& newChannel) {
+    const float r = voxelRate(dom, v, g);
+    if (r < rate[v]) {
+        rate[v] = r;
+        newChannel.push_back(v);
     }
+}
+
+}  // namespace
+
+Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
+    Grid3<float> rate(dom.dims, float(g.pRate));
+    for (std::size_t v = 0; v < rate.size(); ++v) rate[v] = voxelRate(dom, v, g);
     return rate;
 }
 
 std::vector<bool> connectedSources(const Domain& dom) {
-    return connectedSourcesImpl(dom);
+    return sourcesReached(dom, reachedFromSinks(dom, kConducting));
 }
 
 void reachFromSinks(const Domain& dom, Stage2State& st) {
-    std::fill(st.reached.begin(), st.reached.end(), false);
-    std::deque<std::size_t> queue;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink)
-            if (!st.reached[v]) {
-                st.reached[v] = true;
-                queue.push_back(v);
-            }
-    conductingSearch(dom, queue, [&](std::size_t w) { return st.reached[w]; });
+    st.reached = reachedFromSinks(dom, kConducting);
 }
 
 std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vector<std::size_t>& newConducting) {
@@ -486,9 +451,9 @@ std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vec
         if (!touches) continue;
         st.reached[c] = true;
         queue.push_back(c);
-        conductingSearch(dom, queue, [&](std::size_t w) { return st.reached[w]; });
+        spreadThrough(dom, kConducting, queue, st.reached);
     }
-    return sourcesIn(dom, st.reached);
+    return sourcesReached(dom, st.reached);
 }
 
 std::vector<Refill> refillLevels(const Domain& dom) {
@@ -529,8 +494,7 @@ double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage
 
 void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight weight, Stage2State& st) {
     const bool proportional = weight == TransportWeight::kProportional;
-    std::array<double, 26> invLength{};
-    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const std::array<double, 26> invLength = invLengths();
     const std::vector<double>& water = st.water;
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
@@ -614,8 +578,7 @@ double offerOf(const Domain& dom, const Grid3<double>& P, TransportWeight weight
 
 void computeAcceptance(const Domain& dom, const Grid3<double>& P, TransportWeight weight, Stage2State& st) {
     const bool proportional = weight == TransportWeight::kProportional;
-    std::array<double, 26> invLength{};
-    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const std::array<double, 26> invLength = invLengths();
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
         const TileMask& work = st.workMask[c.slot];
@@ -651,8 +614,7 @@ void computeAcceptance(const Domain& dom, const Grid3<double>& P, TransportWeigh
 std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, TransportWeight weight,
                                     Stage2State& st) {
     const bool proportional = weight == TransportWeight::kProportional;
-    std::array<double, 26> invLength{};
-    for (int sl = 0; sl < 26; ++sl) invLength[std::size_t(sl)] = slots()[std::size_t(sl)].invLength;
+    const std::array<double, 26> invLength = invLengths();
     const Dims& d = dom.dims;
     // f_c: what each sender's offers bring, times the receivers' acceptance (read-only water).
     forEachTile(st, [&](const TileCtx& c) {
@@ -733,18 +695,13 @@ void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending,
 
 namespace {
 
-/// The channel rule of one voxel: flags it, lowers its rate, records it.
-inline void channelRule(Domain& dom, const Stage2Options& g, std::size_t v, Grid3<float>& rate, float threshold,
-                        std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting) {
+/// The channel rule of one voxel: flags it and records it; true if it became channel.
+inline bool channelRule(Domain& dom, std::size_t v, float threshold, std::vector<std::size_t>& newConducting) {
     std::uint8_t& f = dom.flags[v];
-    if (!(f & kChannel) && dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v]) {
-        f |= kChannel;
-        newConducting.push_back(v);
-        if (rate[v] > float(g.pRateChannel)) {
-            rate[v] = float(g.pRateChannel);
-            newChannel.push_back(v);
-        }
-    }
+    if (f & kChannel || !(dom.porosity[v] >= threshold && dom.porosity[v] > dom.porosity0[v])) return false;
+    f |= kChannel;
+    newConducting.push_back(v);
+    return true;
 }
 
 }  // namespace
@@ -752,7 +709,6 @@ inline void channelRule(Domain& dom, const Stage2Options& g, std::size_t v, Grid
 double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>& rate,
              std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting) {
     const float threshold = float(g.channelThreshold);
-    const bool byPorosity = g.rateRule == RateRule::kPorosity;
     const Dims& d = dom.dims;
     std::vector<std::vector<std::size_t>> fresh(st.activeTiles.size()), conducting(st.activeTiles.size());
     forEachTile(st, [&](const TileCtx& c) {
@@ -770,22 +726,17 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
             st.erodedHere[p] = 0;
             if (dom.flags[v] & kNotEroded) return;
             const double flow = g.wa * st.fa[p] + st.fc[p];
+            bool opened = false;
             if (flow > 0) {
                 const float R = dom.porosity[v];
                 const double dR = std::min(g.w0 * (g.m == 1.0 ? flow : std::pow(flow, g.m)), 1.0 - double(R));
                 if (dR > 0) {
                     dom.porosity[v] = std::min(1.f, float(double(R) + dR));
                     st.erodedHere[p] = double(dom.porosity[v]) - double(R);
-                    if (byPorosity && (dom.flags[v] & kProtochannel)) {
-                        const float r = porosityRate(dom.porosity[v], dom.porosity0[v], g);
-                        if (r < rate[v]) {
-                            rate[v] = r;
-                            fresh[c.slot].push_back(v);
-                        }
-                    }
+                    opened = true;
                 }
             }
-            channelRule(dom, g, v, rate, threshold, fresh[c.slot], conducting[c.slot]);
+            if (channelRule(dom, v, threshold, conducting[c.slot]) || opened) lowerRate(dom, g, v, rate, fresh[c.slot]);
             dom.flow[v] = float(flow);
         });
     });
@@ -805,7 +756,8 @@ void startStage2(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<flo
     st.channelVoxels = 0;
     for (std::size_t v = 0; v < dom.flags.size(); ++v) {
         if (dom.flags[v] & kChannel) ++st.channelVoxels;
-        if (!(dom.flags[v] & kOpen)) channelRule(dom, g, v, rate, threshold, newChannel, newConducting);
+        if (!(dom.flags[v] & kOpen) && channelRule(dom, v, threshold, newConducting))
+            lowerRate(dom, g, v, rate, newChannel);
     }
     st.channelVoxels += long(newConducting.size());
     for (const auto& src : dom.sourceVoxels)
@@ -927,6 +879,14 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     }
     std::vector<std::size_t> changed, conducting;
     double stored = 0;
+    // Water and the settled pressure field into the domain.
+    const auto publish = [&] {
+        pressure.settle(rate);
+        for (std::size_t v = 0; v < n; ++v) {
+            dom.water[v] = float(st.water[v]);
+            dom.pressure[v] = float(pressure.value()[v]);
+        }
+    };
 
     for (int it = 1; it <= g.iterations; ++it) {
         Stage2Record rec;
@@ -978,11 +938,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         res.iterations = it;
 
         if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
-            pressure.settle(rate);  // the whole field for the picture
-            for (std::size_t v = 0; v < n; ++v) {
-                dom.water[v] = float(st.water[v]);
-                dom.pressure[v] = float(pressure.value()[v]);
-            }
+            publish();  // the whole field for the picture
             snapshot(it, dom);
         }
         reportProgress(progress, "stage 2", it, g.iterations);
@@ -990,11 +946,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
 
     res.activeTiles = long(st.activeTiles.size());
     res.tiles = long(st.tileSlot.size());
-    pressure.settle(rate);  // the sweeps that waited beyond the water
-    for (std::size_t v = 0; v < n; ++v) {
-        dom.water[v] = float(st.water[v]);
-        dom.pressure[v] = float(pressure.value()[v]);
-    }
+    publish();  // the sweeps that waited beyond the water
     const double net = stored - (res.totalInjected - res.totalDrained);
     res.waterBalanceRelError = res.totalInjected > 0 ? std::abs(net) / res.totalInjected : 0.0;
     if (!(res.waterBalanceRelError < 1e-6)) {

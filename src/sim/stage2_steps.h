@@ -170,9 +170,11 @@ void blendFlow(const Domain& domain, const Grid3<double>& pressure, FlowBlending
 
 /// Step 6 (Eq. 1): for every voxel that is neither source nor sink, f = wa · f_a + f_c and
 /// R += min(w0 · f^m, 1 − R); domain.flow = f. A voxel whose porosity reaches the channel
-/// threshold (and exceeds its initial porosity) becomes channel; its pressure rate drops to
-/// pRateChannel in `rate`, and its index is appended to `newChannel` (tile by tile); every voxel
-/// newly flagged channel is appended to `newConducting` and counted in `state.channelVoxels`.
+/// threshold (and exceeds its initial porosity) becomes channel. A voxel that opened or became
+/// channel takes the rate `rateField`'s rule gives it now (pRateChannel on a channel, the porosity
+/// rate on a protochannel) in `rate` when that is lower, and its index is appended to `newChannel`
+/// (tile by tile); every voxel newly flagged channel is appended to `newConducting` and counted
+/// in `state.channelVoxels`.
 /// Only active tiles are visited (elsewhere f = 0 and porosity does not change). Returns Σ ΔR in
 /// voxel order.
 double erode(Domain& domain, const Stage2Options& options, Stage2State& state, Grid3<float>& rate,
