@@ -101,13 +101,9 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
                              std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
                              std::to_string(rec.timing.stage2).substr(0, 5) + " s");
     }
-    const std::string statePath = dir.file("state.vdb").string();
-    writeState(statePath, dom, s, StateMoment::kFinal);
-    rec.files["state.vdb"] = stateRecord(statePath, s);
-    // What `cavesim report` reads back, and checks before it decodes: its bytes and the grid it holds.
-    const std::string checkedPath = dir.file(kCheckedStateFile).string();
-    writeCheckedState(checkedPath, dom, s);
-    rec.files[kCheckedStateFile] = stateRecord(checkedPath, s);
+    // state.cavesim is what `cavesim report` reads back, and checks before it decodes: its record
+    // holds its bytes and the grid it holds.
+    rec.files = writeFinalState(dir.file(""), dom, s);
 
     // The cave, once: every output below describes these voxels.
     const Cave cave = makeCave(dom, s.output.cave);
@@ -128,8 +124,8 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
     if (s.speleothems.enabled)
-        rec.speleothems = speleothemsJson(
-            speleo::decorateCave(cave, s.speleothems, dir.file("").string(), width, s.output.images));
+        rec.speleothems =
+            speleothemsJson(speleo::decorateCave(cave, s.speleothems, dir.file("").string(), width, s.output.images));
     rec.timing.mesh = tm.seconds();
 
     reportProgress(progress, "report", 0, 1);
