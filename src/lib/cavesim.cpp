@@ -503,25 +503,22 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     app::RunRecord rec;
     rec.threads = threads;
 
-    // The simulation, as app/pipeline.cpp runs it (the same calls and random draws).
+    // The simulation, as app/pipeline.cpp runs it (app::runStages: the same calls and random draws).
     reportProgress(progress, "domain", 0, 1);
     Rng rng(s.seed);
     Domain dom = buildDomain(s, rng);
     reportProgress(progress, "domain", 1, 1);
-    if (s.stage1.enabled) {
-        const Stopwatch t1;
-        rec.stage1 = app::runScenarioStage1(dom, s, rng, progress);
-        rec.timing.stage1 = t1.seconds();
-        if (!options.stage1StatePath.empty())
-            app::writeState(options.stage1StatePath, dom, s, app::StateMoment::kAfterStage1);
+    app::StageHooks hooks;
+    if (!options.stage1StatePath.empty())
+        hooks.afterStage1 = [&](const Domain& d, const app::RunRecord&) {
+            app::writeState(options.stage1StatePath, d, s, app::StateMoment::kAfterStage1);
+        };
+    app::runStages(dom, s, rng, rec, progress, hooks);
+    if (rec.stage1) {
         report.zones = rec.stage1->zones;
         report.protochannelVoxels = rec.stage1->protochannelVoxels;
     }
-    if (s.stage2.enabled) {
-        const Stopwatch t2;
-        prepareStage2(dom, s.stage2);
-        rec.stage2 = runStage2(dom, s.stage2, progress);
-        rec.timing.stage2 = t2.seconds();
+    if (rec.stage2) {
         report.iterations = rec.stage2->iterations;
         report.breakthroughIteration = rec.stage2->breakthroughIteration;
         report.sourceConnectedIteration = rec.stage2->sourceConnectedIteration;
@@ -552,9 +549,7 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     if (options.analysis) {
         reportProgress(progress, "analysis", 0, 1);
         const Stopwatch tr;
-        const std::vector<std::optional<int>> connected =
-            rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
-        const morpho::CaveAnalysis a = morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+        const morpho::CaveAnalysis a = app::analyseRun(cave, dom, s, rec);
         rec.analysis = app::analysisJson(a);
         rec.timing.report = tr.seconds();
         for (const morpho::SkeletonNode& n : a.skeleton.nodes) {
