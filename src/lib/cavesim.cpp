@@ -120,17 +120,9 @@ void Value::insert(const std::string& key, Value value) {
 
 namespace {
 
-void pushNode(toml::array& a, const Value& v);
-
 /// Assigns `v` to `t[key]`; a dotted key goes through its tables (made when missing); a table merges
 /// into an existing table, anything else replaces.
 void assignNode(toml::table& t, const std::string& key, const Value& v);
-
-toml::array toArray(const Value& v) {
-    toml::array a;
-    for (const Value& e : v.items()) pushNode(a, e);
-    return a;
-}
 
 toml::table toTomlTable(const Value& v) {
     toml::table t;
@@ -138,27 +130,37 @@ toml::table toTomlTable(const Value& v) {
     return t;
 }
 
-void pushNode(toml::array& a, const Value& v) {
+toml::array toArray(const Value& v);
+
+/// Calls `put` with `v` as a TOML value (a list as an array, a table as a table).
+template <typename Put>
+void putNode(const Value& v, Put&& put) {
     switch (v.kind()) {
         case Value::Kind::kBool:
-            a.push_back(v.asBool());
+            put(v.asBool());
             break;
         case Value::Kind::kInt:
-            a.push_back(v.asInt());
+            put(v.asInt());
             break;
         case Value::Kind::kReal:
-            a.push_back(v.asReal());
+            put(v.asReal());
             break;
         case Value::Kind::kString:
-            a.push_back(v.asString());
+            put(v.asString());
             break;
         case Value::Kind::kList:
-            a.push_back(toArray(v));
+            put(toArray(v));
             break;
         case Value::Kind::kTable:
-            a.push_back(toTomlTable(v));
+            put(toTomlTable(v));
             break;
     }
+}
+
+toml::array toArray(const Value& v) {
+    toml::array a;
+    for (const Value& e : v.items()) putNode(e, [&a](auto&& x) { a.push_back(std::forward<decltype(x)>(x)); });
+    return a;
 }
 
 void assignNode(toml::table& t, const std::string& key, const Value& v) {
@@ -169,32 +171,16 @@ void assignNode(toml::table& t, const std::string& key, const Value& v) {
         assignNode(*t.get(head)->as_table(), key.substr(dot + 1), v);
         return;
     }
-    switch (v.kind()) {
-        case Value::Kind::kBool:
-            t.insert_or_assign(key, v.asBool());
-            break;
-        case Value::Kind::kInt:
-            t.insert_or_assign(key, v.asInt());
-            break;
-        case Value::Kind::kReal:
-            t.insert_or_assign(key, v.asReal());
-            break;
-        case Value::Kind::kString:
-            t.insert_or_assign(key, v.asString());
-            break;
-        case Value::Kind::kList:
-            t.insert_or_assign(key, toArray(v));
-            break;
-        case Value::Kind::kTable: {
-            toml::table* existing = t.get(key) ? t.get(key)->as_table() : nullptr;
-            if (!existing) {
-                t.insert_or_assign(key, toml::table{});
-                existing = t.get(key)->as_table();
-            }
-            for (std::size_t n = 0; n < v.keys().size(); ++n) assignNode(*existing, v.keys()[n], v.items()[n]);
-            break;
-        }
+    if (v.kind() != Value::Kind::kTable) {
+        putNode(v, [&](auto&& x) { t.insert_or_assign(key, std::forward<decltype(x)>(x)); });
+        return;
     }
+    toml::table* existing = t.get(key) ? t.get(key)->as_table() : nullptr;
+    if (!existing) {
+        t.insert_or_assign(key, toml::table{});
+        existing = t.get(key)->as_table();
+    }
+    for (std::size_t n = 0; n < v.keys().size(); ++n) assignNode(*existing, v.keys()[n], v.items()[n]);
 }
 
 Value fromNode(const toml::node& n) {
