@@ -17,6 +17,7 @@
 #include <tbb/info.h>
 
 #include "app/output_dir.h"
+#include "app/report.h"
 #include "app/state.h"
 #include "core/atomic_file.h"
 #include "core/check.h"
@@ -135,11 +136,6 @@ Stats stats(std::vector<double> v) {
     s.median = quantile(v, 0.5);
     s.q3 = quantile(v, 0.75);
     return s;
-}
-
-/// A JSON number that round-trips, or null for a non-finite one.
-nlohmann::json num(double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
 std::string fmt(const nlohmann::json& v) {
@@ -454,6 +450,7 @@ nlohmann::json summariseEnsemble(const fs::path& out, const Scenario& base, int 
         const std::string file = "images/hist_" + stem + ".png";
         const int bins = std::clamp(int(std::ceil(std::sqrt(double(values.size())))), 1, 20);
         render::writePng((out / file).string(), render::histogramFigure(values, key, "", bins, width));
+        const auto num = jsonNumber;
         metricsJson[key] = {{"n", s.n},          {"mean", num(s.mean)}, {"sd", num(s.sd)},
                             {"min", num(s.min)}, {"q1", num(s.q1)},     {"median", num(s.median)},
                             {"q3", num(s.q3)},   {"max", num(s.max)},   {"histogram", file}};

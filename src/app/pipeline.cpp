@@ -171,8 +171,8 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     writeReport(s, dom, rec, dir.file("").string());
     // The effective scenario also records the state file it produced (a comment, ignored by the
     // parser), so `cavesim report` can check the file even when report.json is gone.
-    writeTextFile(dir.file("scenario.toml"),
-                  scenarioToToml(s) + "# " + kCheckedStateFile + ": " + rec.files[kCheckedStateFile].dump() + "\n");
+    writeFileAtomic(dir.file("scenario.toml").string(),
+                    scenarioToToml(s) + "# " + kCheckedStateFile + ": " + rec.files[kCheckedStateFile].dump() + "\n");
 
     PipelineResult out;
     if (options.alsoMeasure) {

@@ -22,6 +22,11 @@
 namespace fs = std::filesystem;
 
 namespace cavesim::app {
+
+nlohmann::json jsonNumber(double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
 namespace {
 
 /// FNV-1a over the bytes of a grid: identical grids, identical checksums (determinism checks).
@@ -32,9 +37,7 @@ std::string checksum(const Grid3<T>& g) {
     return h.hex();
 }
 
-nlohmann::json num(double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
+constexpr auto num = jsonNumber;
 
 nlohmann::json stage1Json(const Stage1Result& r) {
     nlohmann::json zones = nlohmann::json::array();

@@ -44,6 +44,9 @@ struct RunRecord {
     nlohmann::json json;                              ///< filled by writeReport: the report.json document
 };
 
+/// A report number: `v`, or null when it is not finite (JSON has no NaN or infinity).
+nlohmann::json jsonNumber(double v);
+
 nlohmann::json meshJson(const mesh::MeshStats& stats);
 /// network, morphometry, graph_metrics, skeleton summary and cave category of an analysis.
 nlohmann::json analysisJson(const morpho::CaveAnalysis& analysis);
