@@ -158,7 +158,7 @@ void checkEnsembleDir(const fs::path& out) {
 
 }  // namespace
 
-VaryRange parseVary(const std::string& t, const Scenario& s) {
+VaryRange parseVary(const std::string& t) {
     const std::string what = "--vary " + t;
     const std::size_t eq = t.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -205,7 +205,6 @@ VaryRange parseVary(const std::string& t, const Scenario& s) {
         v.law = param->key.find("rate") != std::string::npos && v.lo > 0 ? VaryLaw::kLogUniform : VaryLaw::kUniform;
     }
     if (v.law == VaryLaw::kLogUniform && v.lo <= 0) throw InputError(what + ": a log-uniform range needs LOW > 0");
-    (void)s;
     return v;
 }
 
@@ -271,7 +270,7 @@ EnsembleOutcome runEnsemble(const EnsembleRequest& request, const Communicator& 
         throw InputError("--members " + std::to_string(request.members) + ": must be 1–" + std::to_string(kMaxMembers));
     std::vector<VaryRange> vary;
     for (const std::string& t : request.vary) {
-        vary.push_back(parseVary(t, base));
+        vary.push_back(parseVary(t));
         for (std::size_t i = 0; i + 1 < vary.size(); ++i)
             if (vary[i].key == vary.back().key)
                 throw InputError("--vary " + t + ": '" + vary.back().key + "' is varied twice");
