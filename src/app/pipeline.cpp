@@ -120,7 +120,8 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     }
     // state.cavesim is what `cavesim report` reads back, and checks before it decodes: its record
     // holds its bytes and the grid it holds.
-    rec.files = writeFinalState(dir.file(""), dom, s);
+    const std::string outDir = dir.file("").string();  // the staging directory, where every file goes
+    rec.files = writeFinalState(outDir, dom, s);
 
     // The cave, once: every output below describes these voxels.
     const Cave cave = makeCave(dom, s.output.cave);
@@ -132,23 +133,21 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const std::string imagesDir = dir.file("images").string();
     SurfaceMesh surface;  // the cave mesh in world space, for the export formats
     if (s.output.mesh && s.output.images) {
-        rec.mesh =
-            meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo, &surface));
+        rec.mesh = meshJson(mesh::writeCaveMeshAndPictures(cave, outDir, imagesDir, width, mo, &surface));
     } else if (s.output.mesh) {
-        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo, &surface));
+        rec.mesh = meshJson(mesh::writeCaveMesh(cave, outDir, mo, &surface));
     } else if (s.output.images) {
         mesh::writeCavePictures(cave, imagesDir, width);
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
     if (s.speleothems.enabled)
-        rec.speleothems =
-            speleothemsJson(speleo::decorateCave(cave, s.speleothems, dir.file("").string(), width, s.output.images));
+        rec.speleothems = speleothemsJson(speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images));
     rec.timing.mesh = tm.seconds();
 
     reportProgress(progress, "report", 0, 1);
     const Stopwatch tr;
     const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, rec);
-    morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
+    morpho::writeSkeletonFiles(analysis.skeleton, outDir, dom.voxelSize, dom.dims);
     if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
@@ -165,10 +164,10 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     exports.meshOptions = mo;
     exports.glb.normals = s.output.meshNormals;
     exports.buildMeshIfMissing = false;  // `[output] mesh = false`: no mesh in any format
-    rec.exports = formats::writeExports(exports, dir.file("").string(), formats::formatSet(s.output.formats));
+    rec.exports = formats::writeExports(exports, outDir, formats::formatSet(s.output.formats));
     rec.timing.exports = te.seconds();
     rec.timing.total = t0.seconds();
-    writeReport(s, dom, rec, dir.file("").string());
+    writeReport(s, dom, rec, outDir);
     // The effective scenario also records the state file it produced (a comment, ignored by the
     // parser), so `cavesim report` can check the file even when report.json is gone.
     writeFileAtomic(dir.file("scenario.toml").string(),
