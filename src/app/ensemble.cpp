@@ -17,6 +17,7 @@
 #include <tbb/info.h>
 
 #include "app/output_dir.h"
+#include "app/report.h"
 #include "app/state.h"
 #include "core/atomic_file.h"
 #include "core/check.h"
@@ -137,11 +138,6 @@ Stats stats(std::vector<double> v) {
     return s;
 }
 
-/// A JSON number that round-trips, or null for a non-finite one.
-nlohmann::json num(double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 std::string fmt(const nlohmann::json& v) {
     if (!v.is_number()) return "–";
     char buf[32];
@@ -162,7 +158,7 @@ void checkEnsembleDir(const fs::path& out) {
 
 }  // namespace
 
-VaryRange parseVary(const std::string& t, const Scenario& s) {
+VaryRange parseVary(const std::string& t) {
     const std::string what = "--vary " + t;
     const std::size_t eq = t.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -209,7 +205,6 @@ VaryRange parseVary(const std::string& t, const Scenario& s) {
         v.law = param->key.find("rate") != std::string::npos && v.lo > 0 ? VaryLaw::kLogUniform : VaryLaw::kUniform;
     }
     if (v.law == VaryLaw::kLogUniform && v.lo <= 0) throw InputError(what + ": a log-uniform range needs LOW > 0");
-    (void)s;
     return v;
 }
 
@@ -275,7 +270,7 @@ EnsembleOutcome runEnsemble(const EnsembleRequest& request, const Communicator& 
         throw InputError("--members " + std::to_string(request.members) + ": must be 1–" + std::to_string(kMaxMembers));
     std::vector<VaryRange> vary;
     for (const std::string& t : request.vary) {
-        vary.push_back(parseVary(t, base));
+        vary.push_back(parseVary(t));
         for (std::size_t i = 0; i + 1 < vary.size(); ++i)
             if (vary[i].key == vary.back().key)
                 throw InputError("--vary " + t + ": '" + vary.back().key + "' is varied twice");
@@ -454,6 +449,7 @@ nlohmann::json summariseEnsemble(const fs::path& out, const Scenario& base, int 
         const std::string file = "images/hist_" + stem + ".png";
         const int bins = std::clamp(int(std::ceil(std::sqrt(double(values.size())))), 1, 20);
         render::writePng((out / file).string(), render::histogramFigure(values, key, "", bins, width));
+        const auto num = jsonNumber;
         metricsJson[key] = {{"n", s.n},          {"mean", num(s.mean)}, {"sd", num(s.sd)},
                             {"min", num(s.min)}, {"q1", num(s.q1)},     {"median", num(s.median)},
                             {"q3", num(s.q3)},   {"max", num(s.max)},   {"histogram", file}};

@@ -40,11 +40,11 @@ struct VaryRange {
     bool integer = false;  ///< an integer key: the draw is rounded to the nearest whole number
 };
 
-/// Parses `--vary` text against the scenario's registry. Without a law, a key whose name contains
+/// Parses `--vary` text against the scenario registry. Without a law, a key whose name contains
 /// "rate" is drawn log-uniformly (rates span decades), any other uniformly. LOW ≤ HIGH, both inside
 /// the key's allowed range, both > 0 for `log`.
 /// @throw InputError naming the text, the key and what is allowed
-VaryRange parseVary(const std::string& text, const Scenario& scenario);
+VaryRange parseVary(const std::string& text);
 
 /// Member i's seed: SplitMix64(seed + (i + 1) · 0x9E3779B97F4A7C15) with the top bit cleared
 /// (so it is a valid scenario seed, 0 … 2⁶³ − 1). SplitMix64(z): z ^= z >> 30; z *= 0xBF58476D1CE4E5B9;

@@ -292,8 +292,4 @@ void OutputDir::commit() {
     if (!old.empty()) fs::remove_all(old, ec);
 }
 
-void writeTextFile(const fs::path& path, const std::string& text) {
-    writeFileAtomic(path.string(), text);
-}
-
 }  // namespace cavesim::app

@@ -43,7 +43,4 @@ private:
     bool force_ = false, committed_ = false;
 };
 
-/// Writes `text` to `path` (inside a staging directory, so no further atomicity is needed).
-void writeTextFile(const std::filesystem::path& path, const std::string& text);
-
 }  // namespace cavesim::app

@@ -46,6 +46,29 @@ Stage1Result runScenarioStage1(Domain& dom, const Scenario& s, Rng& rng, const P
     }
 }
 
+void runStages(Domain& dom, const Scenario& s, Rng& rng, RunRecord& rec, const ProgressFn& progress,
+               const StageHooks& hooks) {
+    if (s.stage1.enabled) {
+        const Stopwatch t1;
+        rec.stage1 = runScenarioStage1(dom, s, rng, progress);
+        rec.timing.stage1 = t1.seconds();
+        if (hooks.afterStage1) hooks.afterStage1(dom, rec);
+    }
+    if (s.stage2.enabled) {
+        const Stopwatch t2;
+        prepareStage2(dom, s.stage2);
+        if (hooks.beforeStage2) hooks.beforeStage2(dom, rec);
+        rec.stage2 = runStage2(dom, s.stage2, progress, hooks.snapshot);
+        rec.timing.stage2 = t2.seconds();
+    }
+}
+
+morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& dom, const Scenario& s, const RunRecord& rec) {
+    const std::vector<std::optional<int>> connected =
+        rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
+    return morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+}
+
 PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {
     const Stopwatch t0;
     RunRecord rec;
@@ -56,40 +79,34 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     Rng rng(s.seed);
     Domain dom = buildDomain(s, rng);
 
-    if (s.stage1.enabled) {
-        const Stopwatch t1;
-        rec.stage1 = runScenarioStage1(dom, s, rng, progress);
-        rec.timing.stage1 = t1.seconds();
-        writeState(dir.file("stage1.vdb").string(), dom, s, StateMoment::kAfterStage1);
-        if (s.output.images) render::writeZonesPicture(dom, dir.file("images/zones.png").string(), width);
-        say(options.log, "stage 1: " + std::to_string(rec.stage1->zones) + " zone(s), " +
-                             std::to_string(rec.stage1->protochannelVoxels) + " protochannel voxels in " +
-                             std::to_string(rec.timing.stage1).substr(0, 5) + " s");
+    // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
+    // reduced as it is taken, so the frames kept for the strip stay small at any image width.
+    constexpr int kPerRow = 6, kStripWidth = 8192;
+    const int nFrames = int(s.stage2.snapshots.size());
+    const int cols = std::clamp(nFrames, 1, kPerRow);
+    const int reduce = std::max(1, (width * cols + kStripWidth - 1) / kStripWidth);
+    std::vector<render::Image> frames;
+    StageHooks hooks;
+    hooks.afterStage1 = [&](const Domain& d, const RunRecord& r) {
+        writeState(dir.file("stage1.vdb").string(), d, s, StateMoment::kAfterStage1);
+        if (s.output.images) render::writeZonesPicture(d, dir.file("images/zones.png").string(), width);
+        say(options.log, "stage 1: " + std::to_string(r.stage1->zones) + " zone(s), " +
+                             std::to_string(r.stage1->protochannelVoxels) + " protochannel voxels in " +
+                             std::to_string(r.timing.stage1).substr(0, 5) + " s");
+    };
+    hooks.beforeStage2 = [](const Domain& d, RunRecord& r) { r.connectedAtStart = sourcesConnectedAtStart(d); };
+    if (s.output.images && nFrames > 0) {
+        hooks.snapshot = [&](int it, const Domain& d) {
+            char name[64];
+            std::snprintf(name, sizeof name, "images/iter_%04d.png", it);
+            render::Image frame =
+                render::stateFrame(d, caveMask(d, s.output.cave), "iteration " + std::to_string(it), width);
+            render::writePng(dir.file(name).string(), frame);
+            frames.push_back(render::downsample(frame, reduce));
+        };
     }
-    if (s.stage2.enabled) {
-        const Stopwatch t2;
-        prepareStage2(dom, s.stage2);
-        rec.connectedAtStart = sourcesConnectedAtStart(dom);
-        // images/sequence.png: up to 6 frames a row, at most kStripWidth pixels wide; each frame is
-        // reduced as it is taken, so the frames kept for the strip stay small at any image width.
-        constexpr int kPerRow = 6, kStripWidth = 8192;
-        const int nFrames = int(s.stage2.snapshots.size());
-        const int cols = std::clamp(nFrames, 1, kPerRow);
-        const int reduce = std::max(1, (width * cols + kStripWidth - 1) / kStripWidth);
-        std::vector<render::Image> frames;
-        SnapshotFn snap;
-        if (s.output.images && nFrames > 0) {
-            snap = [&](int it, const Domain& d) {
-                char name[64];
-                std::snprintf(name, sizeof name, "images/iter_%04d.png", it);
-                render::Image frame =
-                    render::stateFrame(d, caveMask(d, s.output.cave), "iteration " + std::to_string(it), width);
-                render::writePng(dir.file(name).string(), frame);
-                frames.push_back(render::downsample(frame, reduce));
-            };
-        }
-        rec.stage2 = runStage2(dom, s.stage2, progress, snap);
-        rec.timing.stage2 = t2.seconds();
+    runStages(dom, s, rng, rec, progress, hooks);
+    if (rec.stage2) {
         if (frames.size() > 1)
             render::writePng(dir.file("images/sequence.png").string(),
                              render::composeStrip(frames, (int(frames.size()) + kPerRow - 1) / kPerRow));
@@ -101,13 +118,10 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
                              std::to_string(dom.sourceVoxels.size()) + " source(s) connected, in " +
                              std::to_string(rec.timing.stage2).substr(0, 5) + " s");
     }
-    const std::string statePath = dir.file("state.vdb").string();
-    writeState(statePath, dom, s, StateMoment::kFinal);
-    rec.files["state.vdb"] = stateRecord(statePath, s);
-    // What `cavesim report` reads back, and checks before it decodes: its bytes and the grid it holds.
-    const std::string checkedPath = dir.file(kCheckedStateFile).string();
-    writeCheckedState(checkedPath, dom, s);
-    rec.files[kCheckedStateFile] = stateRecord(checkedPath, s);
+    // state.cavesim is what `cavesim report` reads back, and checks before it decodes: its record
+    // holds its bytes and the grid it holds.
+    const std::string outDir = dir.file("").string();  // the staging directory, where every file goes
+    rec.files = writeFinalState(outDir, dom, s);
 
     // The cave, once: every output below describes these voxels.
     const Cave cave = makeCave(dom, s.output.cave);
@@ -119,26 +133,21 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const std::string imagesDir = dir.file("images").string();
     SurfaceMesh surface;  // the cave mesh in world space, for the export formats
     if (s.output.mesh && s.output.images) {
-        rec.mesh =
-            meshJson(mesh::writeCaveMeshAndPictures(cave, dir.file("").string(), imagesDir, width, mo, &surface));
+        rec.mesh = meshJson(mesh::writeCaveMeshAndPictures(cave, outDir, imagesDir, width, mo, &surface));
     } else if (s.output.mesh) {
-        rec.mesh = meshJson(mesh::writeCaveMesh(cave, dir.file("").string(), mo, &surface));
+        rec.mesh = meshJson(mesh::writeCaveMesh(cave, outDir, mo, &surface));
     } else if (s.output.images) {
         mesh::writeCavePictures(cave, imagesDir, width);
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
     if (s.speleothems.enabled)
-        rec.speleothems = speleothemsJson(
-            speleo::decorateCave(cave, s.speleothems, dir.file("").string(), width, s.output.images));
+        rec.speleothems = speleothemsJson(speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images));
     rec.timing.mesh = tm.seconds();
 
     reportProgress(progress, "report", 0, 1);
     const Stopwatch tr;
-    const std::vector<std::optional<int>> connected =
-        rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
-    const Grid3<float>* pressure = s.stage2.enabled ? &dom.pressure : nullptr;
-    const morpho::CaveAnalysis analysis = morpho::analyseCave(cave, pressure, connected);
-    morpho::writeSkeletonFiles(analysis.skeleton, dir.file("").string(), dom.voxelSize, dom.dims);
+    const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, rec);
+    morpho::writeSkeletonFiles(analysis.skeleton, outDir, dom.voxelSize, dom.dims);
     if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
@@ -155,19 +164,19 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     exports.meshOptions = mo;
     exports.glb.normals = s.output.meshNormals;
     exports.buildMeshIfMissing = false;  // `[output] mesh = false`: no mesh in any format
-    rec.exports = formats::writeExports(exports, dir.file("").string(), formats::formatSet(s.output.formats));
+    rec.exports = formats::writeExports(exports, outDir, formats::formatSet(s.output.formats));
     rec.timing.exports = te.seconds();
     rec.timing.total = t0.seconds();
-    writeReport(s, dom, rec, dir.file("").string());
+    writeReport(s, dom, rec, outDir);
     // The effective scenario also records the state file it produced (a comment, ignored by the
     // parser), so `cavesim report` can check the file even when report.json is gone.
-    writeTextFile(dir.file("scenario.toml"),
-                  scenarioToToml(s) + "# " + kCheckedStateFile + ": " + rec.files[kCheckedStateFile].dump() + "\n");
+    writeFileAtomic(dir.file("scenario.toml").string(),
+                    scenarioToToml(s) + "# " + kCheckedStateFile + ": " + rec.files[kCheckedStateFile].dump() + "\n");
 
     PipelineResult out;
     if (options.alsoMeasure) {
         const Cave other = makeCave(dom, *options.alsoMeasure);
-        out.alsoMeasured = analysisJson(morpho::analyseCave(other, pressure, connected));
+        out.alsoMeasured = analysisJson(analyseRun(other, dom, s, rec));
     }
     out.totalSeconds = t0.seconds();
     if (rec.stage2) out.breakthroughIteration = rec.stage2->breakthroughIteration;

@@ -10,11 +10,15 @@
 #include <nlohmann/json.hpp>
 
 #include "app/output_dir.h"
+#include "app/report.h"
 #include "core/progress.h"
-#include "sim/options.h"
+#include "morpho/analysis.h"
+#include "sim/cave.h"
 #include "sim/domain.h"
+#include "sim/options.h"
 #include "sim/scenario.h"
 #include "sim/stage1.h"
+#include "sim/stage2.h"
 
 namespace cavesim::app {
 
@@ -33,14 +37,36 @@ struct PipelineOptions {
 struct PipelineResult {
     double totalSeconds = 0;
     std::optional<int> breakthroughIteration;
-    nlohmann::json report;       ///< the report.json document written
-    nlohmann::json alsoMeasured; ///< with `alsoMeasure`: the report's analysis keys under that definition
+    nlohmann::json report;        ///< the report.json document written
+    nlohmann::json alsoMeasured;  ///< with `alsoMeasure`: the report's analysis keys under that definition
 };
 
 /// Stage 1 of `scenario` on `domain` (runStage1), with a limit it exceeds reported as an InputError
 /// naming the scenario file, the line of the source and the key: the stage as a run runs it.
 /// @throw InputError for a limit the scenario exceeds; RuntimeError on a failure while running
 Stage1Result runScenarioStage1(Domain& domain, const Scenario& scenario, Rng& rng, const ProgressFn& progress);
+
+/// What a caller of runStages does around the stages (each may be empty).
+struct StageHooks {
+    /// After stage 1, its result in `record.stage1` and its time taken.
+    std::function<void(const Domain& domain, const RunRecord& record)> afterStage1;
+    /// After the interim step (prepareStage2), before stage 2's first iteration; part of stage 2's time.
+    std::function<void(const Domain& domain, RunRecord& record)> beforeStage2;
+    /// Stage 2's snapshots (runStage2).
+    SnapshotFn snapshot;
+};
+
+/// The enabled stages of `scenario` on `domain` as a run runs them (built by buildDomain with
+/// `rng`, which the stages draw on next): stage 1 (runScenarioStage1), the interim step and
+/// stage 2, their results and times in `record`.
+/// @throw InputError for a limit the scenario exceeds; RuntimeError on a failure while running
+void runStages(Domain& domain, const Scenario& scenario, Rng& rng, RunRecord& record, const ProgressFn& progress,
+               const StageHooks& hooks = {});
+
+/// The cave analysis of a run (morpho::analyseCave): the pressure field and the iterations at which
+/// the sources joined a sink when stage 2 ran.
+morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& domain, const Scenario& scenario,
+                                const RunRecord& record);
 
 /// Builds the domain, runs the enabled stages, meshes, draws and reports into `dir` (staging).
 /// @throw InputError for limits the scenario exceeds (naming the file, line and key);

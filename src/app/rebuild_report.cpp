@@ -14,7 +14,6 @@
 
 #include "app/commands.h"
 #include "app/report.h"
-#include "app/report_html.h"
 #include "app/state.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -89,10 +88,7 @@ std::string rebuildReport(const std::string& dirArg) {
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"}) report[k] = a[k];
     if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
     report["timing_s"]["report"] = t0.seconds();
-    writeFileAtomic((dir / "report.json").string(), report.dump(2) + "\n");
-    const std::string md = buildReportMarkdown(s, report, dir.string());
-    writeFileAtomic((dir / "report.md").string(), md);
-    writeReportHtml(dir.string(), md);
+    writeReportFiles(s, report, dir.string());
     return dir.string() + ": rebuilt report.json, report.md and the skeleton files";
 }
 

@@ -22,6 +22,11 @@
 namespace fs = std::filesystem;
 
 namespace cavesim::app {
+
+nlohmann::json jsonNumber(double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
 namespace {
 
 /// FNV-1a over the bytes of a grid: identical grids, identical checksums (determinism checks).
@@ -32,9 +37,7 @@ std::string checksum(const Grid3<T>& g) {
     return h.hex();
 }
 
-nlohmann::json num(double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
+constexpr auto num = jsonNumber;
 
 nlohmann::json stage1Json(const Stage1Result& r) {
     nlohmann::json zones = nlohmann::json::array();
@@ -137,18 +140,6 @@ std::string inRange(const nlohmann::json& v, const morpho::ReferenceRange* r) {
     const double x = v.get<double>();
     return x >= r->low && x <= r->high ? " ✓" : " ✗";
 }
-
-/// The rows of the indices table: the paper's Tables 2 (optimised field) and 3 (rectangular field).
-struct IndexRow {
-    const char* label;
-    const char* key;  ///< without the _opt / _rect suffix
-};
-const IndexRow kIndexRows[] = {
-    {"network density (m/m²)", "network_density"},
-    {"areal coverage (%)", "areal_coverage_pct"},
-    {"porosity (%)", "porosity_pct"},
-    {"W (m)", "mean_width_m"},
-};
 
 /// Paper Table 4 (its own caves, optimised field; rectangular in parentheses) and Table 5 timings.
 const PaperCave kPaperCaves[] = {
@@ -348,8 +339,7 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     if (!gm.is_null()) {
         md << "\n## Network metrics (Collon et al. 2017)\n\n| metric | meaning | ours | real caves (34 networks) |\n"
               "|---|---|---|---|\n";
-        // In the order the report has always listed them.
-        for (const char* key : {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"}) {
+        for (const char* key : kNetworkMetricKeys) {
             if (section && std::string(key) == "h_or") continue;  // plan azimuths: none in a section
             const morpho::ReferenceRange* m = morpho::findReferenceRange(key, "real caves", 0);
             md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key))
@@ -364,8 +354,12 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
 
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir) {
     rec.json = buildReportJson(s, dom, rec);
-    writeFileAtomic((fs::path(dir) / "report.json").string(), rec.json.dump(2) + "\n");
-    const std::string md = buildReportMarkdown(s, rec.json, dir);
+    writeReportFiles(s, rec.json, dir);
+}
+
+void writeReportFiles(const Scenario& s, const nlohmann::json& report, const std::string& dir) {
+    writeFileAtomic((fs::path(dir) / "report.json").string(), report.dump(2) + "\n");
+    const std::string md = buildReportMarkdown(s, report, dir);
     writeFileAtomic((fs::path(dir) / "report.md").string(), md);
     writeReportHtml(dir, md);
 }

@@ -44,6 +44,9 @@ struct RunRecord {
     nlohmann::json json;                              ///< filled by writeReport: the report.json document
 };
 
+/// A report number: `v`, or null when it is not finite (JSON has no NaN or infinity).
+nlohmann::json jsonNumber(double v);
+
 nlohmann::json meshJson(const mesh::MeshStats& stats);
 /// network, morphometry, graph_metrics, skeleton summary and cave category of an analysis.
 nlohmann::json analysisJson(const morpho::CaveAnalysis& analysis);
@@ -57,6 +60,29 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& report,
 
 /// Writes report.json and report.md into `dir` (each through a temporary name and a rename).
 void writeReport(const Scenario& s, const Domain& dom, RunRecord& rec, const std::string& dir);
+
+/// Writes the report files of `dir` from the report.json document `report`: report.json, report.md
+/// (buildReportMarkdown) and report.html (app/report_html.h).
+void writeReportFiles(const Scenario& s, const nlohmann::json& report, const std::string& dir);
+
+/// One row of the morphometric indices table (paper Tables 2–4): its label and its key in
+/// report.json `morphometry`, without the _opt / _rect suffix (W, "mean_width_m", has none).
+struct IndexRow {
+    const char* label;
+    const char* key;
+};
+/// The rows, in the order of paperIndexText's rows: density, coverage, porosity, W.
+inline constexpr IndexRow kIndexRows[] = {
+    {"network density (m/m²)", "network_density"},
+    {"areal coverage (%)", "areal_coverage_pct"},
+    {"porosity (%)", "porosity_pct"},
+    {"W (m)", "mean_width_m"},
+};
+
+/// The network metrics of Collon et al. 2017 (report.json `graph_metrics`), in the order the
+/// reports list them.
+inline constexpr const char* kNetworkMetricKeys[] = {"h_or", "len_mean_m", "cv_len", "h_len",     "k_mean",
+                                                     "r_k",  "spl",        "cpd",    "tortuosity"};
 
 /// The paper's own measurements of one of its caves: Table 4 (optimised field first, rectangular
 /// field second) and Table 5 (run times on its 2.5 GHz single-threaded machine).

@@ -2,12 +2,13 @@
 
 #include <sstream>
 
+#include "app/cave_maps.h"
 #include "app/report.h"
 
 namespace cavesim::app {
 
 bool isSectionScenario(const Scenario& s) {
-    return s.size[1] == 1 && s.size[0] > 1 && s.size[2] > 1;
+    return isSection(Dims{s.size[0], s.size[1], s.size[2]});
 }
 
 std::string sectionMeasuresMarkdown(const Scenario& s, const nlohmann::json& r) {

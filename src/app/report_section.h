@@ -11,7 +11,7 @@
 
 namespace cavesim::app {
 
-/// True when the scenario's grid is a 2D section: exactly one voxel in y.
+/// True when the scenario's grid is a 2D section (app/cave_maps.h `isSection`).
 bool isSectionScenario(const Scenario& s);
 
 /// The "Section measures" part of report.md: cave length, cave area in the section, the

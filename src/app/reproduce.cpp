@@ -141,8 +141,8 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         dir.open();
         PipelineOptions po;
         po.threads = threads;
-        const bool paperCaveRun = s.name == "fig10" || s.name == "fig11" || s.name == "fig12";
-        if (paperCaveRun && s.output.cave == CaveExtent::kChannels) po.alsoMeasure = CaveExtent::kWithProtochannels;
+        if (paperCave(s.name) && s.output.cave == CaveExtent::kChannels)
+            po.alsoMeasure = CaveExtent::kWithProtochannels;
         const PipelineResult res = runPipeline(s, dir, po);
         dir.commit();
         char line[160];
@@ -178,23 +178,22 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         md << "\n";
     }
 
-    const char* keys[4] = {"network_density", "areal_coverage_pct", "porosity_pct", "mean_width_m"};
-    const char* labels[4] = {"network density (m/m²)", "areal coverage (%)", "porosity (%)", "W (m)"};
     auto table4 = [&](const std::vector<std::pair<std::string, nlohmann::json>>& rs) {
         md << "| index | fig10 ours | fig10 paper | fig11 ours | fig11 paper | fig12 ours | fig12 paper |\n"
               "|---|---|---|---|---|---|---|\n";
         for (int row = 0; row < 4; ++row) {
-            md << "| " << labels[row] << " |";
+            const char* key = kIndexRows[row].key;
+            md << "| " << kIndexRows[row].label << " |";
             for (const char* name : {"fig10", "fig11", "fig12"}) {
                 std::string ours = "–";
                 for (const auto& [n, r] : rs) {
                     if (n != name) continue;
                     const auto& m = get(r, {"morphometry"});
                     if (row == 3)
-                        ours = fmt(get(m, {keys[row]}));
+                        ours = fmt(get(m, {key}));
                     else
-                        ours = fmt(get(m, {(std::string(keys[row]) + "_opt").c_str()})) + " (" +
-                               fmt(get(m, {(std::string(keys[row]) + "_rect").c_str()})) + ")";
+                        ours = fmt(get(m, {(std::string(key) + "_opt").c_str()})) + " (" +
+                               fmt(get(m, {(std::string(key) + "_rect").c_str()})) + ")";
                 }
                 md << " " << ours << " | " << paperIndexText(*paperCave(name), row) << " |";
             }
@@ -202,7 +201,7 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         }
     };
     // The published ranges as text, from their one copy in morpho/reference_ranges.h.
-    const auto rangeList = [](const char* category, int table, std::initializer_list<const char*> keys) {
+    const auto rangeList = [](const char* category, int table, const auto& keys) {
         std::string out;
         for (const char* k : keys) {
             const morpho::ReferenceRange* r = morpho::findReferenceRange(k, category, table);
@@ -215,9 +214,10 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
     };
     md << "## Table 4: morphometric indices\n\nOurs: convex-hull field (rectangular field in parentheses); the "
           "paper's values from its Table 4. Confined ranges (paper Table 2): "
-       << rangeList("confined", 2, {"network_density_opt", "areal_coverage_pct_opt", "porosity_pct_opt", "mean_width_m"})
-       << ".\n\nThe cave as the stage-2 channels (the default, `"
-       << caveSetting(CaveExtent::kChannels) << "`):\n\n";
+       << rangeList("confined", 2,
+                    std::initializer_list<const char*>{"network_density_opt", "areal_coverage_pct_opt",
+                                                       "porosity_pct_opt", "mean_width_m"})
+       << ".\n\nThe cave as the stage-2 channels (the default, `" << caveSetting(CaveExtent::kChannels) << "`):\n\n";
     table4(reports);
     md << "\nThe same runs with the stage-1 protochannels as side passages (`"
        << caveSetting(CaveExtent::kWithProtochannels)
@@ -230,13 +230,12 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
             if (n == n2)
                 md << n << " " << fmt(get(r, {"cave_category"})) << "; " << fmt(get(r2, {"cave_category"})) << ". ";
     md << "\n\n## Network metrics (Collon et al. 2017)\n\nReal caves (34 networks): "
-       << rangeList("real caves", 0, {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"})
+       << rangeList("real caves", 0, kNetworkMetricKeys)
        << ".\n\n| scenario | h_or | len_mean_m | cv_len | h_len | "
           "k_mean | r_k | spl | cpd | tortuosity |\n|---|---|---|---|---|---|---|---|---|---|\n";
     auto metricsRow = [&](const std::string& label, const nlohmann::json& r) {
         md << "| " << label << " |";
-        for (const char* k : {"h_or", "len_mean_m", "cv_len", "h_len", "k_mean", "r_k", "spl", "cpd", "tortuosity"})
-            md << " " << fmt(get(r, {"graph_metrics", k})) << " |";
+        for (const char* k : kNetworkMetricKeys) md << " " << fmt(get(r, {"graph_metrics", k})) << " |";
         md << "\n";
     };
     for (const auto& [n, r] : reports) metricsRow(n, r);

@@ -92,20 +92,39 @@ void collectGrids(StateGrids& out, const Domain& dom, const Scenario& s, StateMo
     }
 }
 
-/// The file's bytes, at most `limit` of them (a state file is never larger).
-std::string readBounded(const std::string& path, std::uint64_t limit) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot be read");
+nlohmann::json fingerprintJson(std::uint64_t bytes, const Fnv1a64& h) {
+    return {{"bytes", bytes}, {"fnv1a64", h.hex()}};
+}
+
+/// A file read once: its fingerprint (as fileFingerprint) and its bytes, kept only while there are
+/// at most `keepLimit` of them (`tooLarge` then says they were dropped).
+struct FileRead {
+    nlohmann::json fingerprint;
     std::string bytes;
+    bool tooLarge = false;
+};
+
+FileRead readFile(const std::string& path, std::uint64_t keepLimit) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw RuntimeError("cannot read " + path);
+    FileRead out;
+    Fnv1a64 h;
+    std::uint64_t bytes = 0;
     char buf[1 << 16];
     while (in) {
         in.read(buf, sizeof buf);
-        bytes.append(buf, std::size_t(in.gcount()));
-        if (bytes.size() > limit)
-            throw InputError(path +
-                             ": larger than any state file of this grid; damaged, or not written by `cavesim run`");
+        const std::streamsize n = in.gcount();
+        h.add(buf, std::size_t(n));
+        bytes += std::uint64_t(n);
+        if (out.tooLarge) continue;
+        out.bytes.append(buf, std::size_t(n));
+        if (out.bytes.size() > keepLimit) {
+            out.tooLarge = true;
+            std::string().swap(out.bytes);
+        }
     }
-    return bytes;
+    out.fingerprint = fingerprintJson(bytes, h);
+    return out;
 }
 
 }  // namespace
@@ -116,31 +135,27 @@ void writeState(const std::string& path, const Domain& dom, const Scenario& s, S
     mesh::writeVdb(path, g.grids, dom.voxelSize, dom.origin);
 }
 
-void writeCheckedState(const std::string& path, const Domain& dom, const Scenario& s) {
+nlohmann::json writeFinalState(const fs::path& dir, const Domain& dom, const Scenario& s) {
     StateGrids g;
     collectGrids(g, dom, s, StateMoment::kFinal);
+    const std::string vdbPath = (dir / "state.vdb").string();
+    mesh::writeVdb(vdbPath, g.grids, dom.voxelSize, dom.origin);
     std::vector<StateGridRef> refs;
     for (const mesh::NamedGrid& n : g.grids) refs.push_back({n.name, n.floats, n.ints});
-    writeFileAtomic(path, encodeState(dom.dims, dom.voxelSize, refs));
+    const std::string checked = encodeState(dom.dims, dom.voxelSize, refs);
+    writeFileAtomic((dir / kCheckedStateFile).string(), checked);
+    Fnv1a64 h;  // the bytes just written: no need to read them back
+    h.add(checked.data(), checked.size());
+    return {{"state.vdb", stateRecord(fileFingerprint(vdbPath), s)},
+            {kCheckedStateFile, stateRecord(fingerprintJson(checked.size(), h), s)}};
 }
 
 nlohmann::json fileFingerprint(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw RuntimeError("cannot read " + path);
-    Fnv1a64 h;
-    std::uint64_t bytes = 0;
-    char buf[1 << 16];
-    while (in) {
-        in.read(buf, sizeof buf);
-        const std::streamsize n = in.gcount();
-        h.add(buf, std::size_t(n));
-        bytes += std::uint64_t(n);
-    }
-    return {{"bytes", bytes}, {"fnv1a64", h.hex()}};
+    return readFile(path, 0).fingerprint;
 }
 
-nlohmann::json stateRecord(const std::string& path, const Scenario& s) {
-    nlohmann::json r = fileFingerprint(path);
+nlohmann::json stateRecord(const nlohmann::json& fingerprint, const Scenario& s) {
+    nlohmann::json r = fingerprint;
     r["grid"] = {s.size[0], s.size[1], s.size[2]};
     r["voxel_size_m"] = s.voxelSize;
     return r;
@@ -166,7 +181,16 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
         throw InputError(file +
                          ": no usable record of it (report.json `files` and the last line of scenario.toml "
                          "are missing or damaged), so it cannot be checked before reading; rerun `cavesim run`");
-    const nlohmann::json now = fileFingerprint(file);
+    const Dims dims{s.size[0], s.size[1], s.size[2]};
+    // No state file is larger than its grids stored uncompressed (zlib adds 0.1 % at worst) plus headers.
+    const std::uint64_t limit = std::uint64_t(kMaxStateGrids) * (dims.count() * 4 * 1002 / 1000 + 4096) + 4096;
+    FileRead read;
+    try {
+        read = readFile(file, limit);  // once: checked against the record, then decoded
+    } catch (const std::bad_alloc&) {
+        throw InputError(file + ": cannot be read (it asks for more memory than there is)");
+    }
+    const nlohmann::json& now = read.fingerprint;
     if (now["bytes"] != then["bytes"] || now["fnv1a64"] != then["fnv1a64"])
         throw InputError(file + ": changed since the run wrote it (now " + now.dump() + ", the run recorded " +
                          then.dump() + "); rerun `cavesim run`");
@@ -176,22 +200,23 @@ Domain loadState(const fs::path& dir, const Scenario& s, const nlohmann::json& r
                          shortNumber(s.voxelSize) + " m, but the run's " + kCheckedStateFile + " holds " +
                          then["grid"].dump() + " of " + then["voxel_size_m"].dump() +
                          " m: the scenario was edited; rerun `cavesim run`");
-    Domain dom = emptyDomain(Dims{s.size[0], s.size[1], s.size[2]}, s.voxelSize, 0.f);
+    Domain dom = emptyDomain(dims, s.voxelSize, 0.f);
     dom.origin = {s.site.origin[0], s.site.origin[1], s.site.origin[2]};
     placeTerminals(dom, s);
-    // No state file is larger than its grids stored uncompressed (zlib adds 0.1 % at worst) plus headers.
-    const std::uint64_t limit = std::uint64_t(kMaxStateGrids) * (dom.dims.count() * 4 * 1002 / 1000 + 4096) + 4096;
-    StateContents read;
+    if (read.tooLarge)
+        throw InputError(file + ": larger than any state file of this grid; damaged, or not written by `cavesim run`");
+    StateContents state;
     try {
-        read = decodeState(readBounded(file, limit), file, dom.dims);
+        state = decodeState(read.bytes, file, dom.dims);
     } catch (const std::bad_alloc&) {
         throw InputError(file + ": cannot be read (it asks for more memory than there is)");
     }
-    if (read.voxelSize != s.voxelSize)
-        throw InputError(file + ": holds voxels of " + shortNumber(read.voxelSize) + " m where the scenario says " +
+    std::string().swap(read.bytes);
+    if (state.voxelSize != s.voxelSize)
+        throw InputError(file + ": holds voxels of " + shortNumber(state.voxelSize) + " m where the scenario says " +
                          shortNumber(s.voxelSize) + " m; rerun `cavesim run`");
     const auto take = [&](const char* name, bool isFloat) -> StateGrid& {
-        for (StateGrid& g : read.grids)
+        for (StateGrid& g : state.grids)
             if (g.name == name) {
                 if (g.isFloat != isFloat)
                     throw InputError(file + ": grid '" + name +

@@ -31,9 +31,10 @@ void writeState(const std::string& path, const Domain& domain, const Scenario& s
 /// The file `cavesim report` reads back: the final state in our own checked format (app/state_file.h).
 inline constexpr const char* kCheckedStateFile = "state.cavesim";
 
-/// Writes the final state of `domain` (the grids of state.vdb) to `path` in the checked format.
-/// @throw RuntimeError when the file cannot be written
-void writeCheckedState(const std::string& path, const Domain& domain, const Scenario& scenario);
+/// Writes the final state of `domain` twice from one set of grids: `dir`/state.vdb and, in the
+/// checked format, `dir`/state.cavesim. Returns their records (see stateRecord), keyed by file name.
+/// @throw RuntimeError when a file cannot be written
+nlohmann::json writeFinalState(const std::filesystem::path& dir, const Domain& domain, const Scenario& scenario);
 
 /// The porosity a state file records for `moment` (see writeState).
 Grid3<float> recordedPorosity(const Domain& domain, const Scenario& scenario, StateMoment moment);
@@ -44,7 +45,7 @@ Grid3<float> recordedPorosity(const Domain& domain, const Scenario& scenario, St
 nlohmann::json fileFingerprint(const std::string& path);
 
 /// The record of a run's state file: its fingerprint, grid and voxel size.
-nlohmann::json stateRecord(const std::string& path, const Scenario& scenario);
+nlohmann::json stateRecord(const nlohmann::json& fingerprint, const Scenario& scenario);
 
 /// A run's final domain as `run` wrote it: grids from dir/state.cavesim (checked against the record
 /// in `report` or in the last line of dir/scenario.toml first, then decoded with every size and

@@ -14,6 +14,25 @@
 #include "sim/parameters.h"
 #include "sim/scenario_io.h"
 
+namespace {
+
+/// The names of a choice key (the parameter registry's), for CLI11's IsMember.
+std::vector<std::string> choiceNames(const cavesim::Param& p) {
+    std::vector<std::string> names;
+    for (const cavesim::ParamChoice& c : p.choices) names.push_back(c.name);
+    return names;
+}
+
+/// The enum value of the choice `name` (one of choiceNames(p): CLI11 checked it).
+template <typename E>
+E choiceValue(const cavesim::Param& p, const std::string& name) {
+    for (const cavesim::ParamChoice& c : p.choices)
+        if (name == c.name) return E(c.value);
+    throw cavesim::InputError("'" + name + "' is not a choice of '" + p.key + "'");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     using namespace cavesim;
     CLI::App app{"cavesim " CAVESIM_VERSION
@@ -24,6 +43,10 @@ int main(int argc, char** argv) {
 
     app::RunRequest run;
     bool quiet = false;
+    // --mesh-style and --mesh-normals override `[output]` keys: their names are the registry's.
+    const Scenario defaults;
+    const Param& meshStyleKey = *findParam(defaults, &defaults.output.meshStyle).second;
+    const Param& meshNormalsKey = *findParam(defaults, &defaults.output.meshNormals).second;
     std::string meshStyle;
     CLI::App* runCmd = app.add_subcommand("run", "Run a scenario (the built-in Figure 10 scenario without SCENARIO)");
     runCmd->add_option("scenario", run.scenarioPath, "Scenario file (TOML); see docs/scenario-format.md");
@@ -33,13 +56,13 @@ int main(int argc, char** argv) {
     runCmd->add_option("--seed", run.seed, "Override the scenario's seed: a whole number in [0, 2^63 - 1]");
     runCmd->add_flag("--force,-f", run.force, "Replace a non-empty output directory");
     runCmd->add_option("--mesh-style", meshStyle, "smooth (default) or voxel (also writes the blocky mesh)")
-        ->check(CLI::IsMember({"smooth", "voxel"}));
+        ->check(CLI::IsMember(choiceNames(meshStyleKey)));
     runCmd->add_option("--formats", run.formats,
                        "Files for other tools, a comma list of glb, vtk, stl, svx, th, gocad, csv, vdb, or all, "
                        "or none (default: the scenario's [output] formats, glb,vtk,svx,csv)");
     std::string meshNormals;
     runCmd->add_option("--mesh-normals", meshNormals, "outward (default) or inward: the side cave.glb's normals face")
-        ->check(CLI::IsMember({"outward", "inward"}));
+        ->check(CLI::IsMember(choiceNames(meshNormalsKey)));
     runCmd->add_flag("--quiet,-q", quiet, "No progress output");
 
     std::string validatePath;
@@ -73,7 +96,9 @@ int main(int argc, char** argv) {
                             "KEY=LOW:HIGH[:uniform|log] draws a number key per member (repeatable; keys with 'rate' "
                             "in their name are log-uniform unless told)");
     ensembleCmd->add_option("--out,-o", ens.outDir, "Ensemble folder (default out/<scenario name>_ensemble)");
-    ensembleCmd->add_option("--threads,-j", ens.threads, "Threads of this process (default: all cores, shared by the ranks on a machine)")
+    ensembleCmd
+        ->add_option("--threads,-j", ens.threads,
+                     "Threads of this process (default: all cores, shared by the ranks on a machine)")
         ->check(CLI::Range(1, 1024));
     ensembleCmd->add_option("--parallel", ens.parallel, "Members at once in this process (default: the threads)")
         ->check(CLI::Range(1, 1024));
@@ -87,9 +112,8 @@ int main(int argc, char** argv) {
 
     try {
         if (*runCmd) {
-            if (!meshStyle.empty()) run.meshStyle = meshStyle == "voxel" ? MeshStyle::kVoxel : MeshStyle::kSmooth;
-            if (!meshNormals.empty())
-                run.meshNormals = meshNormals == "inward" ? MeshNormals::kInward : MeshNormals::kOutward;
+            if (!meshStyle.empty()) run.meshStyle = choiceValue<MeshStyle>(meshStyleKey, meshStyle);
+            if (!meshNormals.empty()) run.meshNormals = choiceValue<MeshNormals>(meshNormalsKey, meshNormals);
             cli::ProgressBar bar(quiet);
             cli::installStopHandlers();  // the callbacks below are the run's safe points
             app::PipelineOptions callbacks;
@@ -145,7 +169,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());
         return 2;
     } catch (const std::bad_alloc&) {
-        const Scenario d;
+        const Scenario& d = defaults;
         std::fprintf(stderr,
                      "cavesim: failed: out of memory (the run needs more than this process may use: "
                      "a smaller %s, %s or fewer %s need less)\n",

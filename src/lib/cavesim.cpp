@@ -120,17 +120,9 @@ void Value::insert(const std::string& key, Value value) {
 
 namespace {
 
-void pushNode(toml::array& a, const Value& v);
-
 /// Assigns `v` to `t[key]`; a dotted key goes through its tables (made when missing); a table merges
 /// into an existing table, anything else replaces.
 void assignNode(toml::table& t, const std::string& key, const Value& v);
-
-toml::array toArray(const Value& v) {
-    toml::array a;
-    for (const Value& e : v.items()) pushNode(a, e);
-    return a;
-}
 
 toml::table toTomlTable(const Value& v) {
     toml::table t;
@@ -138,27 +130,37 @@ toml::table toTomlTable(const Value& v) {
     return t;
 }
 
-void pushNode(toml::array& a, const Value& v) {
+toml::array toArray(const Value& v);
+
+/// Calls `put` with `v` as a TOML value (a list as an array, a table as a table).
+template <typename Put>
+void putNode(const Value& v, Put&& put) {
     switch (v.kind()) {
         case Value::Kind::kBool:
-            a.push_back(v.asBool());
+            put(v.asBool());
             break;
         case Value::Kind::kInt:
-            a.push_back(v.asInt());
+            put(v.asInt());
             break;
         case Value::Kind::kReal:
-            a.push_back(v.asReal());
+            put(v.asReal());
             break;
         case Value::Kind::kString:
-            a.push_back(v.asString());
+            put(v.asString());
             break;
         case Value::Kind::kList:
-            a.push_back(toArray(v));
+            put(toArray(v));
             break;
         case Value::Kind::kTable:
-            a.push_back(toTomlTable(v));
+            put(toTomlTable(v));
             break;
     }
+}
+
+toml::array toArray(const Value& v) {
+    toml::array a;
+    for (const Value& e : v.items()) putNode(e, [&a](auto&& x) { a.push_back(std::forward<decltype(x)>(x)); });
+    return a;
 }
 
 void assignNode(toml::table& t, const std::string& key, const Value& v) {
@@ -169,32 +171,16 @@ void assignNode(toml::table& t, const std::string& key, const Value& v) {
         assignNode(*t.get(head)->as_table(), key.substr(dot + 1), v);
         return;
     }
-    switch (v.kind()) {
-        case Value::Kind::kBool:
-            t.insert_or_assign(key, v.asBool());
-            break;
-        case Value::Kind::kInt:
-            t.insert_or_assign(key, v.asInt());
-            break;
-        case Value::Kind::kReal:
-            t.insert_or_assign(key, v.asReal());
-            break;
-        case Value::Kind::kString:
-            t.insert_or_assign(key, v.asString());
-            break;
-        case Value::Kind::kList:
-            t.insert_or_assign(key, toArray(v));
-            break;
-        case Value::Kind::kTable: {
-            toml::table* existing = t.get(key) ? t.get(key)->as_table() : nullptr;
-            if (!existing) {
-                t.insert_or_assign(key, toml::table{});
-                existing = t.get(key)->as_table();
-            }
-            for (std::size_t n = 0; n < v.keys().size(); ++n) assignNode(*existing, v.keys()[n], v.items()[n]);
-            break;
-        }
+    if (v.kind() != Value::Kind::kTable) {
+        putNode(v, [&](auto&& x) { t.insert_or_assign(key, std::forward<decltype(x)>(x)); });
+        return;
     }
+    toml::table* existing = t.get(key) ? t.get(key)->as_table() : nullptr;
+    if (!existing) {
+        t.insert_or_assign(key, toml::table{});
+        existing = t.get(key)->as_table();
+    }
+    for (std::size_t n = 0; n < v.keys().size(); ++n) assignNode(*existing, v.keys()[n], v.items()[n]);
 }
 
 Value fromNode(const toml::node& n) {
@@ -503,25 +489,22 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     app::RunRecord rec;
     rec.threads = threads;
 
-    // The simulation, as app/pipeline.cpp runs it (the same calls and random draws).
+    // The simulation, as app/pipeline.cpp runs it (app::runStages: the same calls and random draws).
     reportProgress(progress, "domain", 0, 1);
     Rng rng(s.seed);
     Domain dom = buildDomain(s, rng);
     reportProgress(progress, "domain", 1, 1);
-    if (s.stage1.enabled) {
-        const Stopwatch t1;
-        rec.stage1 = app::runScenarioStage1(dom, s, rng, progress);
-        rec.timing.stage1 = t1.seconds();
-        if (!options.stage1StatePath.empty())
-            app::writeState(options.stage1StatePath, dom, s, app::StateMoment::kAfterStage1);
+    app::StageHooks hooks;
+    if (!options.stage1StatePath.empty())
+        hooks.afterStage1 = [&](const Domain& d, const app::RunRecord&) {
+            app::writeState(options.stage1StatePath, d, s, app::StateMoment::kAfterStage1);
+        };
+    app::runStages(dom, s, rng, rec, progress, hooks);
+    if (rec.stage1) {
         report.zones = rec.stage1->zones;
         report.protochannelVoxels = rec.stage1->protochannelVoxels;
     }
-    if (s.stage2.enabled) {
-        const Stopwatch t2;
-        prepareStage2(dom, s.stage2);
-        rec.stage2 = runStage2(dom, s.stage2, progress);
-        rec.timing.stage2 = t2.seconds();
+    if (rec.stage2) {
         report.iterations = rec.stage2->iterations;
         report.breakthroughIteration = rec.stage2->breakthroughIteration;
         report.sourceConnectedIteration = rec.stage2->sourceConnectedIteration;
@@ -552,9 +535,7 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     if (options.analysis) {
         reportProgress(progress, "analysis", 0, 1);
         const Stopwatch tr;
-        const std::vector<std::optional<int>> connected =
-            rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
-        const morpho::CaveAnalysis a = morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+        const morpho::CaveAnalysis a = app::analyseRun(cave, dom, s, rec);
         rec.analysis = app::analysisJson(a);
         rec.timing.report = tr.seconds();
         for (const morpho::SkeletonNode& n : a.skeleton.nodes) {

@@ -73,7 +73,6 @@ bool isTiff(const std::string& path) {
     return ext == ".tif" || ext == ".tiff";
 }
 
-/// `what` = "key 'site.dem' = path": how messages name a file.
 /// How messages name a site file: the scenario, the key and its value as typed, then the file
 /// itself (absolute), which the rest of the message continues ("…/dem.tif: not a GeoTIFF").
 std::string label(const Scenario& s, const void* field, const std::string& typed, const std::string& path) {
@@ -324,22 +323,19 @@ void loadSite(Scenario& s) {
     // Paths relative to the scenario file's folder, made absolute for the effective scenario.
     const fs::path folder =
         s.path.empty() || s.path.front() == '<' ? fs::current_path() : fs::absolute(s.path).parent_path();
-    // The values as typed, for messages.
+    // The values as typed, kept for messages.
     std::map<const void*, std::string> typed;
-    for (const std::string* p :
-         {&s.site.dem, &s.site.sinkholes, &s.site.springs, &s.site.baseOfLimestone, &s.site.waterTable})
-        typed[p] = *p;
-    for (const SiteHorizon& hz : s.siteHorizons) typed[&hz.file] = hz.file;
-    const auto label = [&](const void* field, const std::string& path) {
-        return site::label(s, field, typed[field], path);
-    };
     auto resolve = [&](std::string& p) {
+        typed[&p] = p;
         if (!p.empty() && fs::path(p).is_relative()) p = (folder / p).lexically_normal().string();
     };
     for (std::string* p :
          {&s.site.dem, &s.site.sinkholes, &s.site.springs, &s.site.baseOfLimestone, &s.site.waterTable})
         resolve(*p);
     for (SiteHorizon& hz : s.siteHorizons) resolve(hz.file);
+    const auto label = [&](const void* field, const std::string& path) {
+        return site::label(s, field, typed[field], path);
+    };
 
 #ifndef CAVESIM_HAVE_GDAL
     throw InputError(s.path +
