@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 #include "formats/passages.h"
@@ -36,7 +37,7 @@ void writeGocadTSurf(const SurfaceMesh& mesh, const std::string& path, const std
             "TRGL " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
     }
     out += "END\n";
-    detail::writeOut(path, out);
+    writeFileAtomic(path, out);
 }
 
 void writeGocadPLine(const morpho::Skeleton& skeleton, const std::string& path, const Domain* domain,
@@ -83,7 +84,7 @@ void writeGocadPLine(const morpho::Skeleton& skeleton, const std::string& path, 
         }
     }
     out += "END\n";
-    detail::writeOut(path, out);
+    writeFileAtomic(path, out);
 }
 
 }  // namespace cavesim::formats

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 #include "formats/passages.h"
@@ -96,12 +97,12 @@ std::string writeSurvey(const morpho::Skeleton& skeleton, const Grid3<std::uint8
 
 void writeSurvex(const morpho::Skeleton& skeleton, const Grid3<std::uint8_t>& cave, double voxelSize,
                  const std::string& path, const SurveyOptions& options) {
-    detail::writeOut(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kSurvex));
+    writeFileAtomic(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kSurvex));
 }
 
 void writeTherion(const morpho::Skeleton& skeleton, const Grid3<std::uint8_t>& cave, double voxelSize,
                   const std::string& path, const SurveyOptions& options) {
-    detail::writeOut(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kTherion));
+    writeFileAtomic(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kTherion));
 }
 
 }  // namespace cavesim::formats

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 #include "formats/passages.h"
@@ -112,8 +113,8 @@ void writeStateVti(const Domain& domain, const std::string& path, const Cave* ca
         add(cave->mask, "cave", "1 = cave voxel, 0 = rock");
     }
 
-    detail::writeOut(path, imageData(d, originText(domain.origin), domain.voxelSize, fieldData(units, domain.voxelSize),
-                                     "porosity", arrays, appended));
+    writeFileAtomic(path, imageData(d, originText(domain.origin), domain.voxelSize, fieldData(units, domain.voxelSize),
+                                    "porosity", arrays, appended));
 }
 
 void writeScalarVti(const Grid3<float>& grid, const std::string& name, const std::string& unit, double voxelSize,
@@ -129,10 +130,10 @@ void writeScalarVti(const Grid3<float>& grid, const std::string& name, const std
                   "      <DataArray type=\"Float64\" Name=\"world_origin_m\" NumberOfTuples=\"1\" "
                   "NumberOfComponents=\"3\" format=\"ascii\">" +
                       o + "</DataArray>\n");
-    detail::writeOut(path, imageData(d, o, voxelSize, fields, name,
-                                     "        <DataArray type=\"Float32\" Name=\"" + name +
-                                         "\" NumberOfComponents=\"1\" format=\"appended\" offset=\"0\"/>\n",
-                                     appended));
+    writeFileAtomic(path, imageData(d, o, voxelSize, fields, name,
+                                    "        <DataArray type=\"Float32\" Name=\"" + name +
+                                        "\" NumberOfComponents=\"1\" format=\"appended\" offset=\"0\"/>\n",
+                                    appended));
 }
 
 void writeSkeletonVtp(const morpho::Skeleton& skeleton, const std::string& path, const Domain* domain) {
@@ -212,7 +213,7 @@ void writeSkeletonVtp(const morpho::Skeleton& skeleton, const std::string& path,
     for (const auto& p : passages) x << ' ' << (offset += p.nodes.size());
     endArray();
     x << "      </Lines>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
-    detail::writeOut(path, x.str());
+    writeFileAtomic(path, x.str());
 }
 
 }  // namespace cavesim::formats
