@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 #include "formats/passages.h"
@@ -36,7 +37,7 @@ void writeHistoryCsv(const std::vector<Stage2Record>& history, const std::string
                std::to_string(r.channelVoxels) + "," + std::to_string(r.pressureUpdates) + "," +
                std::to_string(r.sourcesConnected) + "," + detail::num(r.balanceError) + "\n";
     }
-    detail::writeOut(path, out);
+    writeFileAtomic(path, out);
 }
 
 std::vector<BranchRow> branchRows(const morpho::Skeleton& skeleton, const Grid3<std::uint8_t>& cave, double voxelSize,
@@ -125,7 +126,7 @@ void writeBranchesCsv(const std::vector<BranchRow>& rows, const std::string& pat
                "," + opt(r.azimuth_deg) + "," + opt(r.dip_deg) + "," + opt(r.meanFlow) + "," + r.role + "," +
                std::to_string(r.loopTroughs) + "\n";
     }
-    detail::writeOut(path, out);
+    writeFileAtomic(path, out);
 }
 
 }  // namespace cavesim::formats

@@ -1,14 +1,12 @@
 /// @file detail.h
-/// @brief Internal to src/formats: number text, byte packing and the one checked file write.
+/// @brief Internal to src/formats: number text and byte packing (files are written by
+/// core/atomic_file.h's `writeFileAtomic`, whose errors name the file).
 #pragma once
 
 #include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <string>
-
-#include "core/atomic_file.h"
-#include "core/error.h"
 
 namespace cavesim::formats::detail {
 
@@ -43,18 +41,6 @@ void appendBytes(std::string& out, const T* data, std::size_t n) {
 template <typename T>
 void appendValue(std::string& out, const T& v) {
     appendBytes(out, &v, 1);
-}
-
-/// Writes `bytes` to `path` through a temporary file and a rename (core/atomic_file.h).
-/// @throw RuntimeError "cannot write <path>: <reason>"
-inline void writeOut(const std::string& path, const std::string& bytes) {
-    try {
-        writeFileAtomic(path, bytes);
-    } catch (const RuntimeError& e) {
-        const std::string what = e.what();
-        if (what.rfind("cannot write " + path, 0) == 0) throw;
-        throw RuntimeError("cannot write " + path + ": " + what);
-    }
 }
 
 }  // namespace cavesim::formats::detail

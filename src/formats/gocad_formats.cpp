@@ -1,8 +1,8 @@
 #include "formats/gocad_formats.h"
 
-#include <numeric>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 #include "formats/passages.h"
@@ -32,21 +32,19 @@ void writeGocadTSurf(const SurfaceMesh& mesh, const std::string& path, const std
         for (int c : t)
             if (c < 0 || c >= nv)
                 throw RuntimeError("cannot write " + path + ": a triangle refers to vertex " + std::to_string(c) +
-                                 " of " + std::to_string(nv));
+                                   " of " + std::to_string(nv));
         out +=
             "TRGL " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
     }
     out += "END\n";
-    detail::writeOut(path, out);
+    writeFileAtomic(path, out);
 }
 
 void writeGocadPLine(const morpho::Skeleton& skeleton, const std::string& path, const Domain* domain,
                      const std::string& name) {
     const std::vector<morpho::Branch> passages = findPassages(skeleton);  // validates the skeleton
     const std::size_t n = skeleton.nodes.size();
-    std::vector<int> passageOf(n, -1);
-    for (std::size_t p = passages.size(); p-- > 0;)
-        for (int v : passages[p].nodes) passageOf[std::size_t(v)] = int(p);
+    const std::vector<int> passageOf = passageOfNodes(skeleton, passages);
     const bool withFields =
         domain && domain->flow.size() == domain->dims.count() && domain->pressure.size() == domain->dims.count();
     if (withFields)
@@ -54,42 +52,39 @@ void writeGocadPLine(const morpho::Skeleton& skeleton, const std::string& path, 
             if (node.voxel >= domain->dims.count())
                 throw RuntimeError("cannot write " + path + ": a skeleton node stands outside the domain");
 
-    // Connected pieces (union-find), each an ILINE in order of its lowest node.
-    std::vector<int> parent(n);
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&parent](int v) {
-        while (parent[std::size_t(v)] != v) v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
-        return v;
-    };
-    for (const auto& e : skeleton.edges) {
-        const int a = find(e[0]), b = find(e[1]);
-        if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
-    }
+    // Connected pieces, each an ILINE in order of its lowest node: its nodes in index order, its
+    // edges in skeleton order (isolated nodes are in no edge and left out).
+    const std::vector<int> piece = pieceOfNodes(skeleton);
+    std::vector<std::vector<int>> nodesOf(n), edgesOf(n);
+    for (std::size_t e = 0; e < skeleton.edges.size(); ++e)
+        edgesOf[std::size_t(piece[std::size_t(skeleton.edges[e][0])])].push_back(int(e));
     std::vector<char> used(n, 0);
     for (const auto& e : skeleton.edges) used[std::size_t(e[0])] = used[std::size_t(e[1])] = 1;
+    for (std::size_t v = 0; v < n; ++v)
+        if (used[v]) nodesOf[std::size_t(piece[v])].push_back(int(v));
 
     std::string out = header("PLine", name);
     out += withFields ? "PROPERTIES radius passage_id flow pressure\nESIZES 1 1 1 1\n"
                       : "PROPERTIES radius passage_id\nESIZES 1 1\n";
     for (std::size_t root = 0; root < n; ++root) {
-        if (!used[root] || find(int(root)) != int(root)) continue;
+        if (nodesOf[root].empty()) continue;
         out += "ILINE\n";
-        for (std::size_t v = root; v < n; ++v) {
-            if (!used[v] || find(int(v)) != int(root)) continue;
-            const auto& node = skeleton.nodes[v];
+        for (int v : nodesOf[root]) {
+            const auto& node = skeleton.nodes[std::size_t(v)];
             out += "PVRTX " + std::to_string(v + 1) + " " + detail::num(node.position[0]) + " " +
                    detail::num(node.position[1]) + " " + detail::num(node.position[2]) + " " +
-                   detail::num(node.radius) + " " + std::to_string(passageOf[v]);
+                   detail::num(node.radius) + " " + std::to_string(passageOf[std::size_t(v)]);
             if (withFields)
                 out += " " + detail::num(domain->flow[node.voxel]) + " " + detail::num(domain->pressure[node.voxel]);
             out += "\n";
         }
-        for (const auto& e : skeleton.edges)
-            if (find(e[0]) == int(root))
-                out += "SEG " + std::to_string(e[0] + 1) + " " + std::to_string(e[1] + 1) + "\n";
+        for (int e : edgesOf[root]) {
+            const auto& ed = skeleton.edges[std::size_t(e)];
+            out += "SEG " + std::to_string(ed[0] + 1) + " " + std::to_string(ed[1] + 1) + "\n";
+        }
     }
     out += "END\n";
-    detail::writeOut(path, out);
+    writeFileAtomic(path, out);
 }
 
 }  // namespace cavesim::formats

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 
@@ -136,7 +137,7 @@ void writeGlb(const SurfaceMesh& mesh, const std::string& path, const GlbOptions
     tinygltf::TinyGLTF writer;
     if (!writer.WriteGltfSceneToStream(&model, out, false, true) || !out)
         throw RuntimeError("cannot write " + path + ": tinygltf could not encode the model");
-    detail::writeOut(path, out.str());
+    writeFileAtomic(path, out.str());
 }
 
 void writeStl(const SurfaceMesh& mesh, const std::string& path) {
@@ -159,7 +160,7 @@ void writeStl(const SurfaceMesh& mesh, const std::string& path) {
         detail::appendBytes(bytes, c.data(), 3);
         detail::appendValue(bytes, std::uint16_t(0));
     }
-    detail::writeOut(path, bytes);
+    writeFileAtomic(path, bytes);
 }
 
 }  // namespace cavesim::formats

@@ -1,7 +1,9 @@
 #include "formats/passages.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace cavesim::formats {
 
@@ -79,6 +81,29 @@ std::vector<std::string> stationNames(const morpho::Skeleton& skeleton, const st
         }
     }
     return names;
+}
+
+std::vector<int> passageOfNodes(const morpho::Skeleton& skeleton, const std::vector<morpho::Branch>& passages) {
+    std::vector<int> passageOf(skeleton.nodes.size(), -1);
+    for (std::size_t p = passages.size(); p-- > 0;)
+        for (int v : passages[p].nodes) passageOf[std::size_t(v)] = int(p);
+    return passageOf;
+}
+
+std::vector<int> pieceOfNodes(const morpho::Skeleton& skeleton) {
+    // Union-find whose roots are the lowest index of their set: the smaller root always wins.
+    std::vector<int> parent(skeleton.nodes.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&parent](int v) {
+        while (parent[std::size_t(v)] != v) v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
+        return v;
+    };
+    for (const auto& e : skeleton.edges) {
+        const int a = find(e[0]), b = find(e[1]);
+        if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
+    }
+    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = find(int(v));
+    return parent;
 }
 
 std::array<double, 3> passageHeading(const morpho::Skeleton& skeleton, const morpho::Branch& passage, std::size_t s) {

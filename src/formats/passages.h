@@ -53,6 +53,14 @@ std::vector<morpho::Branch> findPassages(const morpho::Skeleton& skeleton);
 std::vector<std::string> stationNames(const morpho::Skeleton& skeleton, const std::vector<morpho::Branch>& passages,
                                       const std::string& prefix = "p", const std::string& separator = ".");
 
+/// The passage of each skeleton node: the first passage (lowest id) through it; -1 for a node in
+/// no passage (isolated).
+std::vector<int> passageOfNodes(const morpho::Skeleton& skeleton, const std::vector<morpho::Branch>& passages);
+
+/// The connected piece of each skeleton node, named by the lowest node index in it (an isolated
+/// node is a piece of its own). A piece's first node is the one whose value is its own index.
+std::vector<int> pieceOfNodes(const morpho::Skeleton& skeleton);
+
 /// The heading of a passage at position s of its node chain: the mean of the unit directions of
 /// the legs before and after it (one leg at the ends), in world axes (not normalised; zero when
 /// the chain has no length there).

@@ -2,9 +2,9 @@
 
 #include <cctype>
 #include <cmath>
-#include <numeric>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 #include "formats/passages.h"
@@ -22,21 +22,12 @@ void checkName(const std::string& name, const std::string& path) {
 
 // The first node of each connected piece of the skeleton (lowest node index), in node order.
 std::vector<int> pieceRoots(const morpho::Skeleton& s) {
-    std::vector<int> parent(s.nodes.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&parent](int v) {
-        while (parent[std::size_t(v)] != v) v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
-        return v;
-    };
-    for (const auto& e : s.edges) {
-        const int a = find(e[0]), b = find(e[1]);
-        if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
-    }
-    std::vector<int> roots;
+    const std::vector<int> piece = pieceOfNodes(s);
     std::vector<char> hasEdge(s.nodes.size(), 0);
     for (const auto& e : s.edges) hasEdge[std::size_t(e[0])] = hasEdge[std::size_t(e[1])] = 1;
+    std::vector<int> roots;
     for (std::size_t v = 0; v < s.nodes.size(); ++v)
-        if (hasEdge[v] && find(int(v)) == int(v)) roots.push_back(int(v));
+        if (hasEdge[v] && piece[v] == int(v)) roots.push_back(int(v));
     return roots;
 }
 
@@ -55,14 +46,9 @@ std::string writeSurvey(const morpho::Skeleton& skeleton, const Grid3<std::uint8
 
     std::string out;
     const std::string c = sx ? "; " : "# ";
-    if (sx) {
-        out += c + options.title + " (" + std::to_string(skeleton.nodes.size()) + " stations, " +
-               std::to_string(skeleton.edges.size()) + " legs, " + std::to_string(passages.size()) + " passages)\n";
-    } else {
-        out += "encoding utf-8\n";
-        out += c + options.title + " (" + std::to_string(skeleton.nodes.size()) + " stations, " +
-               std::to_string(skeleton.edges.size()) + " legs, " + std::to_string(passages.size()) + " passages)\n";
-    }
+    if (!sx) out += "encoding utf-8\n";
+    out += c + options.title + " (" + std::to_string(skeleton.nodes.size()) + " stations, " +
+           std::to_string(skeleton.edges.size()) + " legs, " + std::to_string(passages.size()) + " passages)\n";
     out += c + "written by cavesim from the cave's centreline; metres; fixed stations in world coordinates\n";
     out += c + "(x east, y north, z up); compass from grid north (+y); stations p<passage>" + (sx ? "." : "_") +
            "<station>\n";
@@ -81,8 +67,8 @@ std::string writeSurvey(const morpho::Skeleton& skeleton, const Grid3<std::uint8
     }
     for (std::size_t b = 0; b < passages.size(); ++b) {
         const auto& nodes = passages[b].nodes;
-        out += "\n" + ind + (sx ? "; " : "# ") + "passage " + std::to_string(b) + ": " +
-               std::to_string(nodes.size() - 1) + " legs, " + detail::fixed(passages[b].length_m, 3) + " m\n";
+        out += "\n" + ind + c + "passage " + std::to_string(b) + ": " + std::to_string(nodes.size() - 1) + " legs, " +
+               detail::fixed(passages[b].length_m, 3) + " m\n";
         out += ind + (sx ? "*data normal from to tape compass clino\n" : "data normal from to length compass clino\n");
         for (std::size_t s = 0; s + 1 < nodes.size(); ++s) {
             const LegReading r = legReading(pos(nodes[s]), pos(nodes[s + 1]));
@@ -111,12 +97,12 @@ std::string writeSurvey(const morpho::Skeleton& skeleton, const Grid3<std::uint8
 
 void writeSurvex(const morpho::Skeleton& skeleton, const Grid3<std::uint8_t>& cave, double voxelSize,
                  const std::string& path, const SurveyOptions& options) {
-    detail::writeOut(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kSurvex));
+    writeFileAtomic(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kSurvex));
 }
 
 void writeTherion(const morpho::Skeleton& skeleton, const Grid3<std::uint8_t>& cave, double voxelSize,
                   const std::string& path, const SurveyOptions& options) {
-    detail::writeOut(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kTherion));
+    writeFileAtomic(path, writeSurvey(skeleton, cave, voxelSize, path, options, Dialect::kTherion));
 }
 
 }  // namespace cavesim::formats

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "formats/detail.h"
 #include "formats/passages.h"
@@ -24,7 +25,8 @@ std::string stringArray(const std::string& name, const std::vector<std::string>&
     return s;
 }
 
-std::string fieldData(const std::vector<std::string>& units, double voxelSize) {
+// `extra`: more arrays, after the voxel size.
+std::string fieldData(const std::vector<std::string>& units, double voxelSize, const std::string& extra = "") {
     std::string s = "    <FieldData>\n";
     s += stringArray("units", units);
     s += stringArray("length_unit", {"m"});
@@ -32,8 +34,36 @@ std::string fieldData(const std::vector<std::string>& units, double voxelSize) {
     if (voxelSize > 0)
         s += "      <DataArray type=\"Float64\" Name=\"voxel_size_m\" NumberOfTuples=\"1\" format=\"ascii\">" +
              detail::num(voxelSize) + "</DataArray>\n";
+    s += extra;
     s += "    </FieldData>\n";
     return s;
+}
+
+std::string originText(const std::array<double, 3>& origin) {
+    return detail::num(origin[0]) + " " + detail::num(origin[1]) + " " + detail::num(origin[2]);
+}
+
+// A VTK XML ImageData file of the cells of `d` (voxel edge `voxelSize` metres, low corner at
+// `origin`): `cellArrays` (DataArray elements, `scalars` the active one) whose values are the raw
+// `appended` block.
+std::string imageData(const Dims& d, const std::string& origin, double voxelSize, const std::string& fields,
+                      const std::string& scalars, const std::string& cellArrays, const std::string& appended) {
+    const std::string h = detail::num(voxelSize);
+    const std::string extent =
+        "0 " + std::to_string(d.nx) + " 0 " + std::to_string(d.ny) + " 0 " + std::to_string(d.nz);
+    std::string xml;
+    xml.reserve(appended.size() + 4096);
+    xml += "<?xml version=\"1.0\"?>\n";
+    xml += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+    xml += "  <ImageData WholeExtent=\"" + extent + "\" Origin=\"" + origin + "\" Spacing=\"" + h + " " + h + " " + h +
+           "\">\n";
+    xml += fields;
+    xml += "    <Piece Extent=\"" + extent + "\">\n      <PointData>\n      </PointData>\n";
+    xml += "      <CellData Scalars=\"" + scalars + "\">\n" + cellArrays + "      </CellData>\n    </Piece>\n";
+    xml += "  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _";
+    xml += appended;
+    xml += "\n  </AppendedData>\n</VTKFile>\n";
+    return xml;
 }
 
 template <typename T>
@@ -56,9 +86,6 @@ struct VtkType<std::int32_t> {
 void writeStateVti(const Domain& domain, const std::string& path, const Cave* cave) {
     const Dims& d = domain.dims;
     if (d.count() == 0) throw RuntimeError("cannot write " + path + ": the domain has no voxels");
-    const std::string h = detail::num(domain.voxelSize);
-    const std::string extent =
-        "0 " + std::to_string(d.nx) + " 0 " + std::to_string(d.ny) + " 0 " + std::to_string(d.nz);
     std::string arrays, appended;
     std::vector<std::string> units;
     auto add = [&](const auto& grid, const std::string& name, const std::string& unit) {
@@ -86,61 +113,34 @@ void writeStateVti(const Domain& domain, const std::string& path, const Cave* ca
         add(cave->mask, "cave", "1 = cave voxel, 0 = rock");
     }
 
-    std::string xml;
-    xml.reserve(appended.size() + 4096);
-    xml += "<?xml version=\"1.0\"?>\n";
-    xml += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
-    const std::string origin =
-        detail::num(domain.origin[0]) + " " + detail::num(domain.origin[1]) + " " + detail::num(domain.origin[2]);
-    xml += "  <ImageData WholeExtent=\"" + extent + "\" Origin=\"" + origin + "\" Spacing=\"" + h + " " + h + " " + h +
-           "\">\n";
-    xml += fieldData(units, domain.voxelSize);
-    xml += "    <Piece Extent=\"" + extent + "\">\n      <PointData>\n      </PointData>\n";
-    xml += "      <CellData Scalars=\"porosity\">\n" + arrays + "      </CellData>\n    </Piece>\n";
-    xml += "  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _";
-    xml += appended;
-    xml += "\n  </AppendedData>\n</VTKFile>\n";
-    detail::writeOut(path, xml);
+    writeFileAtomic(path, imageData(d, originText(domain.origin), domain.voxelSize, fieldData(units, domain.voxelSize),
+                                    "porosity", arrays, appended));
 }
 
 void writeScalarVti(const Grid3<float>& grid, const std::string& name, const std::string& unit, double voxelSize,
                     const std::array<double, 3>& origin, const std::string& path) {
     const Dims& d = grid.dims;
     if (d.count() == 0 || grid.size() != d.count()) throw RuntimeError("cannot write " + path + ": an empty grid");
-    const std::string h = detail::num(voxelSize);
-    const std::string extent =
-        "0 " + std::to_string(d.nx) + " 0 " + std::to_string(d.ny) + " 0 " + std::to_string(d.nz);
     std::string appended;
     detail::appendValue(appended, std::uint64_t(grid.size() * sizeof(float)));
     detail::appendBytes(appended, grid.data.data(), grid.size());
-    const std::string o = detail::num(origin[0]) + " " + detail::num(origin[1]) + " " + detail::num(origin[2]);
-    std::string xml;
-    xml.reserve(appended.size() + 2048);
-    xml += "<?xml version=\"1.0\"?>\n";
-    xml += "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
-    xml +=
-        "  <ImageData WholeExtent=\"" + extent + "\" Origin=\"" + o + "\" Spacing=\"" + h + " " + h + " " + h + "\">\n";
-    std::string fd = fieldData({name + ": " + unit}, voxelSize);
-    fd.insert(fd.rfind("    </FieldData>"),
-              "      <DataArray type=\"Float64\" Name=\"world_origin_m\" NumberOfTuples=\"1\" "
-              "NumberOfComponents=\"3\" format=\"ascii\">" +
-                  o + "</DataArray>\n");
-    xml += fd;
-    xml += "    <Piece Extent=\"" + extent + "\">\n      <PointData>\n      </PointData>\n";
-    xml += "      <CellData Scalars=\"" + name + "\">\n        <DataArray type=\"Float32\" Name=\"" + name +
-           "\" NumberOfComponents=\"1\" format=\"appended\" offset=\"0\"/>\n      </CellData>\n    </Piece>\n";
-    xml += "  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _";
-    xml += appended;
-    xml += "\n  </AppendedData>\n</VTKFile>\n";
-    detail::writeOut(path, xml);
+    const std::string o = originText(origin);
+    const std::string fields =
+        fieldData({name + ": " + unit}, voxelSize,
+                  "      <DataArray type=\"Float64\" Name=\"world_origin_m\" NumberOfTuples=\"1\" "
+                  "NumberOfComponents=\"3\" format=\"ascii\">" +
+                      o + "</DataArray>\n");
+    writeFileAtomic(path, imageData(d, o, voxelSize, fields, name,
+                                    "        <DataArray type=\"Float32\" Name=\"" + name +
+                                        "\" NumberOfComponents=\"1\" format=\"appended\" offset=\"0\"/>\n",
+                                    appended));
 }
 
 void writeSkeletonVtp(const morpho::Skeleton& skeleton, const std::string& path, const Domain* domain) {
     const std::vector<morpho::Branch> passages = findPassages(skeleton);
     const std::size_t n = skeleton.nodes.size();
-    std::vector<int> passageOf(n, -1), degree(n, 0);
-    for (std::size_t p = passages.size(); p-- > 0;)
-        for (int v : passages[p].nodes) passageOf[std::size_t(v)] = int(p);
+    const std::vector<int> passageOf = passageOfNodes(skeleton, passages);
+    std::vector<int> degree(n, 0);
     for (const auto& e : skeleton.edges) {
         ++degree[std::size_t(e[0])];
         ++degree[std::size_t(e[1])];
@@ -213,7 +213,7 @@ void writeSkeletonVtp(const morpho::Skeleton& skeleton, const std::string& path,
     for (const auto& p : passages) x << ' ' << (offset += p.nodes.size());
     endArray();
     x << "      </Lines>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
-    detail::writeOut(path, x.str());
+    writeFileAtomic(path, x.str());
 }
 
 }  // namespace cavesim::formats

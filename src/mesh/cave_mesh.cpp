@@ -11,6 +11,7 @@
 #include "core/check.h"
 #include "core/timer.h"
 #include "mesh/cave_level_set.h"
+#include "mesh/level_set_mesh.h"
 #include "mesh/mesh_cleanup.h"
 #include "sim/cave.h"
 
@@ -23,11 +24,9 @@ double length2(const openvdb::Vec3s& a, const openvdb::Vec3s& b) {
 
 }  // namespace
 
-namespace {
+namespace detail {
 
-// volumeToMesh at `iso`, faces turned outward (OpenVDB winds them inward), quads split along
-// their shorter diagonal.
-TriangleMesh extract(const openvdb::FloatGrid& grid, double iso, double adaptivity) {
+TriangleMesh meshLevelSet(const openvdb::FloatGrid& grid, double iso, double adaptivity) {
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;
@@ -48,6 +47,10 @@ TriangleMesh extract(const openvdb::FloatGrid& grid, double iso, double adaptivi
     }
     return mesh;
 }
+
+}  // namespace detail
+
+namespace {
 
 // Surface area and signed volume of a triangle mesh (the two measures the offset needs).
 std::pair<double, double> areaAndVolume(const TriangleMesh& mesh) {
@@ -77,7 +80,7 @@ CaveSurface buildCaveSurface(const Grid3<std::uint8_t>& mask, double voxelSize, 
     out.levelSet = buildCaveLevelSet(mask, voxelSize, options);
     CaveLevelSet& ls = out.levelSet;
     if (!ls.grid) return out;
-    TriangleMesh mesh = extract(*ls.grid, ls.isoValue, options.adaptivity);
+    TriangleMesh mesh = meshLevelSet(*ls.grid, ls.isoValue, options.adaptivity);
     if (options.preserveVolume) {
         // Newton steps on V(iso) = voxel volume with dV/diso = area; a second step only when the
         // first missed by more than 1 % (small pieces, whose area grows fast with the offset).
@@ -87,7 +90,7 @@ CaveSurface buildCaveSurface(const Grid3<std::uint8_t>& mask, double voxelSize, 
             const double iso = std::clamp(ls.isoValue + (ls.voxelVolume - volume) / area, 0.0, ls.maxIsoValue);
             if (std::abs(iso - ls.isoValue) <= 1e-3 * voxelSize) break;
             ls.isoValue = iso;
-            if (step == 0 || wantMesh) mesh = extract(*ls.grid, ls.isoValue, options.adaptivity);
+            if (step == 0 || wantMesh) mesh = meshLevelSet(*ls.grid, ls.isoValue, options.adaptivity);
         }
     }
     if (wantMesh) out.mesh = cleanMesh(mesh, 1e-4 * voxelSize / options.subdivision);

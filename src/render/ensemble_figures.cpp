@@ -99,12 +99,18 @@ Image probabilityPlanFigure(const Grid3<float>& p, double voxelSize, double orig
     Image img(width, top + mapH + bottom, colours::kWhite);
     drawTextAligned(img, width / 2, 6 * scale, title, colours::kText, scale, Align::kCentre);
     // Largest probability along each column; pixel rows run from north (top) to south.
+    std::vector<float> columnMax(std::size_t(d.nx) * std::size_t(d.ny), 0.f);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                float& m = columnMax[std::size_t(j) * std::size_t(d.nx) + std::size_t(i)];
+                m = std::max(m, p.at(i, j, k));
+            }
     for (int y = 0; y < mapH; ++y) {
         const int j = std::min(d.ny - 1, int((mapH - 1 - y) / px));
         for (int x = 0; x < mapW; ++x) {
             const int i = std::min(d.nx - 1, int(x / px));
-            float m = 0;
-            for (int k = 0; k < d.nz; ++k) m = std::max(m, p.at(i, j, k));
+            const float m = columnMax[std::size_t(j) * std::size_t(d.nx) + std::size_t(i)];
             img.set(left + x, top + y, m > 0 ? viridis(m) : colours::kLightGrey);
         }
     }

@@ -1,33 +1,20 @@
 #include "speleo/decorate.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 
+#include "core/timer.h"
 #include "formats/mesh_formats.h"
 #include "render/png_io.h"
 
 namespace cavesim::speleo {
 namespace {
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-Vec3d sub3(const Vec3d& a, const Vec3d& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-Vec3d cross3(const Vec3d& a, const Vec3d& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot3(const Vec3d& a, const Vec3d& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 Vec3d unit3(const Vec3d& a) {
-    const double l = std::sqrt(dot3(a, a));
+    const double l = std::sqrt(dot(a, a));
     return l > 0 ? Vec3d{a[0] / l, a[1] / l, a[2] / l} : Vec3d{0, 0, 1};
 }
 
@@ -62,9 +49,9 @@ render::Camera closeUpCamera(const DecorationField& f, const Stalactite& st, int
     const double back = std::max(st.radius + 2 * f.voxelSize(), 0.9 * bestD);
     reach = back + 2 * size;
     cam.eye = {target[0] + back * bestDir[0], target[1] + back * bestDir[1], target[2] + back * bestDir[2]};
-    cam.forward = unit3(sub3(target, cam.eye));
-    cam.right = unit3(cross3(cam.forward, {0, 0, 1}));
-    cam.up = cross3(cam.right, cam.forward);
+    cam.forward = unit3(sub(target, cam.eye));
+    cam.right = unit3(cross(cam.forward, {0, 0, 1}));
+    cam.up = cross(cam.right, cam.forward);
     cam.scale = 0.9 * width;  // ~58° field of view
     cam.cx = 0.5 * width;
     cam.cy = 0.5 * height;
@@ -96,9 +83,8 @@ render::Image renderMesh(const mesh::TriangleMesh& m, const render::Camera& cam,
     for (const auto& t : m.triangles) {
         const auto &a = p[t[0]], &b = p[t[1]], &c = p[t[2]];
         if (a.depth <= 1e-3 || b.depth <= 1e-3 || c.depth <= 1e-3) continue;
-        const Vec3d n =
-            unit3(cross3(sub3(m.vertices[t[1]], m.vertices[t[0]]), sub3(m.vertices[t[2]], m.vertices[t[0]])));
-        const double head = std::abs(dot3(n, cam.forward)), diffuse = std::abs(dot3(n, light));
+        const Vec3d n = unit3(cross(sub(m.vertices[t[1]], m.vertices[t[0]]), sub(m.vertices[t[2]], m.vertices[t[0]])));
+        const double head = std::abs(dot(n, cam.forward)), diffuse = std::abs(dot(n, light));
         const double zMid = (m.vertices[t[0]][2] + m.vertices[t[1]][2] + m.vertices[t[2]][2]) / 3;
         const double h = std::clamp((zMid - zLow) / std::max(zHigh - zLow, 1e-9), 0.0, 1.0);
         const render::Rgb base = render::mix({196, 160, 112}, {232, 222, 200}, h);  // ochre low, pale high
@@ -129,7 +115,7 @@ render::Image renderMesh(const mesh::TriangleMesh& m, const render::Camera& cam,
 
 DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, const std::string& dir, int imageWidth,
                                bool images) {
-    const auto t0 = std::chrono::steady_clock::now();
+    Stopwatch watch;
     DecorationSummary sum;
     sum.voxelSize = o.voxelSize;
     namespace fs = std::filesystem;
@@ -142,7 +128,6 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
     std::vector<double> frameYears;
     for (int k = 1; k < frames; ++k) frameYears.push_back(o.years * k / (frames - 1));
     // Frames are rendered after growth from stored meshes (close-up on the final longest stalactite).
-    std::vector<mesh::TriangleMesh> frameMeshes;
     std::vector<DecorationField> frameFields;
     std::vector<double> frameTimes;
     const GrowthResult g =
@@ -156,9 +141,8 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
     sum.years = g.years;
     sum.maxSpeed = g.maxSpeed;
     sum.levelSetVoxels = field.activeVoxels();
-    sum.secondsGrowth = secondsSince(t0);
+    sum.secondsGrowth = watch.lap();
 
-    const auto t1 = std::chrono::steady_clock::now();
     const mesh::TriangleMesh decorated = meshField(field);
     sum.mesh = mesh::measureMesh(decorated);
     fs::create_directories(dir);
@@ -173,6 +157,18 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
         const render::Frame pf = render::makeFrame(render::View::kPerspective, cave.dims(), cave.voxelSize, imageWidth);
         const double zTop = cave.dims().nz * cave.voxelSize;
         const int cw = imageWidth, ch = imageWidth * 3 / 4;
+        // The close-up: the same subject, camera and box in every frame, chosen on the final surface.
+        const Stalactite* st = sum.stalactites.empty() ? nullptr : &closeUpSubject(sum.stalactites, o.voxelSize);
+        render::Camera cam;
+        Vec3d lo{0, 0, 0}, hi{0, 0, 0};
+        if (st) {
+            double reach = 1;
+            cam = closeUpCamera(field, *st, cw, ch, reach);
+            lo = {std::min(cam.eye[0], st->tip[0]) - reach, std::min(cam.eye[1], st->tip[1]) - reach,
+                  std::min(cam.eye[2], st->tip[2]) - reach};
+            hi = {std::max(cam.eye[0], st->tip[0]) + reach, std::max(cam.eye[1], st->tip[1]) + reach,
+                  std::max(cam.eye[2], st->tip[2]) + reach};
+        }
         for (std::size_t k = 0; k < frameFields.size(); ++k) {
             const int year = int(std::lround(frameTimes[k]));
             const mesh::TriangleMesh whole = meshField(frameFields[k]);
@@ -181,19 +177,12 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
             const std::string pn = frameName("perspective", int(k));
             render::writePng((fs::path(dir) / pn).string(), img);
             sum.pictures.push_back(pn);
-            if (!sum.stalactites.empty()) {
-                const Stalactite& st = closeUpSubject(sum.stalactites, o.voxelSize);
-                double reach = 1;
-                const render::Camera cam = closeUpCamera(field, st, cw, ch, reach);
-                const Vec3d lo{std::min(cam.eye[0], st.tip[0]) - reach, std::min(cam.eye[1], st.tip[1]) - reach,
-                               std::min(cam.eye[2], st.tip[2]) - reach};
-                const Vec3d hi{std::max(cam.eye[0], st.tip[0]) + reach, std::max(cam.eye[1], st.tip[1]) + reach,
-                               std::max(cam.eye[2], st.tip[2]) + reach};
+            if (st) {
                 const mesh::TriangleMesh part = meshField(frameFields[k], lo, hi);
-                render::Image cimg = renderMesh(part, cam, cw, ch, st.tip[2], st.tip[2] + st.length + st.radius);
+                render::Image cimg = renderMesh(part, cam, cw, ch, st->tip[2], st->tip[2] + st->length + st->radius);
                 render::drawText(cimg, 10, 10,
                                  "stalactite, year " + std::to_string(year) + " (final length " +
-                                     std::to_string(int(std::lround(st.length * 100))) + " cm)",
+                                     std::to_string(int(std::lround(st->length * 100))) + " cm)",
                                  {40, 40, 40}, pf.textScale);
                 const std::string cn = frameName("closeup", int(k));
                 render::writePng((fs::path(dir) / cn).string(), cimg);
@@ -201,7 +190,7 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
             }
         }
     }
-    sum.secondsOutput = secondsSince(t1);
+    sum.secondsOutput = watch.seconds();
     return sum;
 }
 

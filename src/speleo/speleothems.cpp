@@ -8,7 +8,6 @@
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VelocityFields.h>
-#include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -17,6 +16,7 @@
 #include <random>
 
 #include "core/check.h"
+#include "mesh/level_set_mesh.h"
 #include "sim/noise.h"
 
 namespace cavesim::speleo {
@@ -31,12 +31,10 @@ using openvdb::Coord;
 using openvdb::FloatGrid;
 using openvdb::Vec3d;
 
-constexpr int kHalfWidth = 3;          // band half width, voxels
-constexpr double kShell = 2.0;         // stalactite points lie within this many voxels of the surface
-constexpr double kTipFacing = 0.7071;  // a tip faces down within 45° of vertical
-constexpr double kMinCos = 0.2;
-constexpr double kMinSinTheta =
-    0.1736;  // sin 10°: flatter walls beyond the tip do not grow           // cos θ floor of the tip's vertical speed
+constexpr int kHalfWidth = 3;            // band half width, voxels
+constexpr double kShell = 2.0;           // stalactite points lie within this many voxels of the surface
+constexpr double kTipFacing = 0.7071;    // a tip faces down within 45° of vertical
+constexpr double kMinCos = 0.2;          // cos θ floor of the tip's vertical speed
 constexpr double kDripNoiseScale = 1.0;  // metres, feature size of the drip variability
 constexpr std::uint64_t kDripSalt = 0x9e3779b97f4a7c15ull;
 
@@ -281,13 +279,18 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
     return a;
 }
 
+double maxSpeed(const Analysis& a) {
+    double m = 0;
+    for (double v : a.speed) m = std::max(m, v);
+    return m;
+}
+
 void advect(FloatGrid::Ptr& grid, const Analysis& a, double years) {
     openvdb::Vec3fGrid::Ptr vel = openvdb::Vec3fGrid::create(openvdb::Vec3f(0.f));
     vel->setTransform(grid->transform().copy());
     // Speeds are scaled by the largest, and time by it in turn (OpenVDB treats speeds below
     // ~3e-3 per unit time as zero; ours are ~1e-4 m/yr).
-    double vmax = 0;
-    for (double v : a.speed) vmax = std::max(vmax, v);
+    const double vmax = maxSpeed(a);
     if (!(vmax > 0) || !(years > 0)) return;
     auto acc = vel->getAccessor();
     for (std::size_t n = 0; n < a.samples.size(); ++n)
@@ -300,34 +303,6 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double years) {
     adv.setTrackerSpatialScheme(openvdb::math::HJWENO5_BIAS);
     adv.setTrackerTemporalScheme(openvdb::math::TVD_RK1);
     adv.advect(0.0, years * vmax);
-}
-
-double maxSpeed(const Analysis& a) {
-    double m = 0;
-    for (double v : a.speed) m = std::max(m, v);
-    return m;
-}
-
-mesh::TriangleMesh extract(const FloatGrid& grid) {
-    std::vector<openvdb::Vec3s> points;
-    std::vector<openvdb::Vec3I> triangles;
-    std::vector<openvdb::Vec4I> quads;
-    openvdb::tools::volumeToMesh(grid, points, triangles, quads, 0.0, 0.0, true);
-    auto len2 = [&](int a, int b) { return (points[a] - points[b]).lengthSqr(); };
-    mesh::TriangleMesh m;
-    m.vertices.reserve(points.size());
-    for (const openvdb::Vec3s& p : points) m.vertices.push_back({double(p[0]), double(p[1]), double(p[2])});
-    for (const openvdb::Vec3I& t : triangles) m.triangles.push_back({int(t[0]), int(t[2]), int(t[1])});
-    for (const openvdb::Vec4I& q : quads) {
-        if (len2(q[0], q[2]) <= len2(q[1], q[3])) {
-            m.triangles.push_back({int(q[0]), int(q[2]), int(q[1])});
-            m.triangles.push_back({int(q[0]), int(q[3]), int(q[2])});
-        } else {
-            m.triangles.push_back({int(q[0]), int(q[3]), int(q[1])});
-            m.triangles.push_back({int(q[1]), int(q[3]), int(q[2])});
-        }
-    }
-    return m;
 }
 
 }  // namespace
@@ -446,7 +421,7 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
     initVdb();
     GrowthResult res;
     const double h = field.voxelSize();
-    std::size_t nextFrame = 0;
+    std::size_t nextFrame = 0, crossed = 0;  // frames shown; frames the steps so far have reached
     double t = 0;
     bool first = true;
     while (true) {
@@ -455,6 +430,9 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
         res.maxSpeed = std::max(res.maxSpeed, vmax);
         if (first && atFrame) atFrame(0.0, field, a.stalactites);
         first = false;
+        // The frames the last step crossed show the surface it left, analysed just now.
+        for (; nextFrame < crossed; ++nextFrame)
+            if (atFrame && frameYears[nextFrame] > 0) atFrame(t, field, a.stalactites);
         if (t >= o.years - 1e-9 || vmax <= 0) {
             res.stalactites = std::move(a.stalactites);
             // Frames not reached because nothing moves show the final state.
@@ -470,10 +448,7 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
         advect(field.impl->grid, a, dt);
         t += dt;
         ++res.steps;
-        while (nextFrame < frameYears.size() && frameYears[nextFrame] <= t + 1e-9) {
-            if (atFrame && frameYears[nextFrame] > 0) atFrame(t, field, findStalactites(field, o));
-            ++nextFrame;
-        }
+        while (crossed < frameYears.size() && frameYears[crossed] <= t + 1e-9) ++crossed;
     }
     res.years = t;
     return res;
@@ -481,14 +456,14 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
 
 mesh::TriangleMesh meshField(const DecorationField& field) {
     CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
-    return extract(*field.impl->grid);
+    return mesh::detail::meshLevelSet(*field.impl->grid, 0.0, 0.0);
 }
 
 mesh::TriangleMesh meshField(const DecorationField& field, const cavesim::Vec3d& lo, const cavesim::Vec3d& hi) {
     CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
     const openvdb::BBoxd box(Vec3d(lo[0], lo[1], lo[2]), Vec3d(hi[0], hi[1], hi[2]));
     FloatGrid::Ptr clipped = openvdb::tools::clip(*field.impl->grid, box);
-    return extract(*clipped);
+    return mesh::detail::meshLevelSet(*clipped, 0.0, 0.0);
 }
 
 }  // namespace cavesim::speleo
