@@ -75,17 +75,11 @@ bool inRange(const ParamRange& r, double v) {
     return (r.loOpen ? v > r.lo : v >= r.lo) && (r.hiOpen ? v < r.hi : v <= r.hi);
 }
 
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    if (!in) throw RuntimeError("cannot read " + p.string());
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 nlohmann::json readJson(const fs::path& p) {
     std::error_code ec;
     if (!fs::is_regular_file(p, ec)) return nullptr;
     try {
-        return nlohmann::json::parse(readFile(p));
+        return nlohmann::json::parse(readFileBytes(p));
     } catch (const std::exception&) {
         return nullptr;
     }
@@ -255,7 +249,7 @@ std::string memberChecksum(const fs::path& dir) {
     for (const fs::path& rel : files) {
         const std::string name = rel.generic_string();
         h.add(name.data(), name.size() + 1);  // with the terminating 0
-        const std::string bytes = readFile(dir / rel);
+        const std::string bytes = readFileBytes(dir / rel);
         const std::uint64_t n = bytes.size();
         h.add(&n, sizeof n);
         h.add(bytes.data(), bytes.size());

@@ -82,14 +82,6 @@ std::vector<std::string> cells(const std::string& row) {
     return out;
 }
 
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    if (!in) throw RuntimeError("cannot read " + p.string());
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 std::string base64(const std::string& bytes) {
     static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
@@ -246,17 +238,17 @@ std::string reportHtml(const std::string& markdown, const std::string& glb, cons
 void writeReportHtml(const std::string& dir, const std::string& markdown, const std::string& viewerDir) {
     const fs::path out(dir);
     std::string glb;
-    if (fs::exists(out / "cave.glb")) glb = readFile(out / "cave.glb");
+    if (fs::exists(out / "cave.glb")) glb = readFileBytes(out / "cave.glb");
     std::string script;
     const fs::path viewer = fs::path(viewerDir) / kModelViewerScript;
     if (!glb.empty() && !viewerDir.empty() && fs::is_regular_file(viewer)) {
         std::error_code ec;
         fs::create_directories(out / "report_files", ec);
         if (ec) throw RuntimeError("cannot create " + (out / "report_files").string() + ": " + ec.message());
-        writeFileAtomic((out / "report_files" / kModelViewerScript).string(), readFile(viewer));
+        writeFileAtomic((out / "report_files" / kModelViewerScript).string(), readFileBytes(viewer));
         const fs::path licence = fs::path(viewerDir) / "LICENSE";
         if (fs::is_regular_file(licence))
-            writeFileAtomic((out / "report_files" / "model-viewer-LICENSE").string(), readFile(licence));
+            writeFileAtomic((out / "report_files" / "model-viewer-LICENSE").string(), readFileBytes(licence));
         script = std::string("report_files/") + kModelViewerScript;
     }
     writeFileAtomic((out / "report.html").string(), reportHtml(markdown, glb, script));

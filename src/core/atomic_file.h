@@ -11,6 +11,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <fcntl.h>
@@ -82,6 +84,14 @@ inline void writeFileAtomic(const std::string& path, const std::string& text) {
     } catch (const RuntimeError& e) {
         throw RuntimeError("cannot write " + path + ": " + e.what());
     }
+}
+
+/// A whole file's bytes.
+/// @throw RuntimeError "cannot read PATH" when it cannot be opened
+inline std::string readFileBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw RuntimeError("cannot read " + path.string());
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 }  // namespace cavesim

@@ -8,13 +8,13 @@
 #include <cstring>
 #include <string>
 
+#include "core/text.h"
+
 namespace cavesim::formats::detail {
 
-/// Shortest decimal text that reads back to the same double (std::to_chars).
+/// Shortest decimal text that reads back to the same double.
 inline std::string num(double v) {
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
+    return shortestText(v);
 }
 
 /// Shortest decimal text that reads back to the same float.

@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/check.h"
 #include "core/error.h"
+#include "core/text.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -21,9 +22,7 @@ namespace fs = std::filesystem;
 
 /// Shortest decimal form of `x` that reads back to the same double.
 void appendNumber(std::string& out, double x) {
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, x);
-    out.append(buf, r.ptr);
+    out += shortestText(x);
 }
 
 /// Writes `text` to `dir/name` through a unique temporary file and a rename.
