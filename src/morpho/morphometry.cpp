@@ -243,6 +243,51 @@ nlohmann::json toJson(const Morphometry& m) {
     };
 }
 
+NearMarked nearMarked(const Skeleton& skeleton, const Grid3<std::uint8_t>& marked, double radius) {
+    validateSkeleton(skeleton);
+    const Dims d = marked.dims;
+    CAVESIM_CHECK(marked.data.size() == d.count(), "nearMarked: the grid's data does not match its dims");
+    CAVESIM_CHECK(radius >= 0 && std::isfinite(radius), "nearMarked: negative or non-finite radius");
+    NearMarked out;
+    out.radius_vox = radius;
+    const int r = int(std::floor(radius));
+    std::vector<Index3> stamp;
+    for (int dk = -r; dk <= r; ++dk)
+        for (int dj = -r; dj <= r; ++dj)
+            for (int di = -r; di <= r; ++di)
+                if (double(di * di + dj * dj + dk * dk) <= radius * radius) stamp.push_back({di, dj, dk});
+    std::vector<char> near(d.count(), 0);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                if (!marked.at(i, j, k)) continue;
+                for (const Index3& o : stamp)
+                    if (d.contains(i + o.i, j + o.j, k + o.k)) near[d.index(i + o.i, j + o.j, k + o.k)] = 1;
+            }
+    out.block_voxels = long(d.count());
+    for (char c : near) out.block_voxels_near += c;
+    if (out.block_voxels > 0) out.block_share = double(out.block_voxels_near) / double(out.block_voxels);
+    for (const auto& e : skeleton.edges) {
+        const SkeletonNode& a = skeleton.nodes[std::size_t(e[0])];
+        const SkeletonNode& b = skeleton.nodes[std::size_t(e[1])];
+        CAVESIM_CHECK(a.voxel < d.count() && b.voxel < d.count(), "nearMarked: a skeleton node lies outside the grid");
+        const double len = distance(a.position, b.position);
+        out.length_m += len;
+        out.length_near_m += 0.5 * len * (double(near[a.voxel]) + double(near[b.voxel]));
+    }
+    if (out.length_m > 0) out.centreline_share = out.length_near_m / out.length_m;
+    return out;
+}
+
+nlohmann::json toJson(const NearMarked& n) {
+    auto opt = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+    return {{"radius_vox", n.radius_vox},
+            {"centreline_share", opt(n.centreline_share)},
+            {"block_share", opt(n.block_share)},
+            {"length_near_m", n.length_near_m},
+            {"block_voxels_near", n.block_voxels_near}};
+}
+
 CategoryVotes categoryVotes(const Morphometry& m) {
     CategoryVotes v;
     for (const ReferenceRange& r : categoryRanges()) {

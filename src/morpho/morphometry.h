@@ -28,6 +28,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -77,6 +78,27 @@ Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& 
 /// The index keys (the member names above) plus "vertical_range_m", "cave_voxels", "plan_cells" and
 /// "field_opt_method" ("plan_margin_in_hull").
 nlohmann::json toJson(const Morphometry& m);
+
+/// How close the centreline and the block lie to a set of marked voxels (report.json
+/// `stage2.near_protochannels`, with the stage-1 protochannels marked).
+struct NearMarked {
+    double radius_vox = 0;                   ///< the distance, index units (voxel centre to voxel centre)
+    double length_m = 0;                     ///< skeleton length, m
+    double length_near_m = 0;                ///< of it, within the distance (see `nearMarked`), m
+    std::optional<double> centreline_share;  ///< length_near / length; empty without length
+    long block_voxels = 0;                   ///< voxels of the grid
+    long block_voxels_near = 0;              ///< of them, within the distance of a marked voxel
+    std::optional<double> block_share;       ///< block_voxels_near / block_voxels; empty for an empty grid
+};
+
+/// Share of the skeleton's length, and of the block's voxels, within `radius` voxels (Euclidean,
+/// voxel centre to voxel centre, index units) of a marked voxel (`marked` non-zero). Each edge's
+/// length is split half to each end node; a node is near when its voxel is.
+/// @throw cavesim::InternalError on an invalid skeleton, a node outside the grid or a negative radius
+NearMarked nearMarked(const Skeleton& skeleton, const Grid3<std::uint8_t>& marked, double radius);
+
+/// {"radius_vox", "centreline_share", "block_share", "length_near_m", "block_voxels_near"}.
+nlohmann::json toJson(const NearMarked& n);
 
 /// How many of the category's ranges (`categoryRanges`) hold the cave's value.
 struct CategoryVotes {

@@ -124,6 +124,33 @@ TEST(Morphometry, OptimisedFieldOfALShapedPlanWithAMarginOfOneDiagonal) {
     EXPECT_NEAR(m.a_field_rect_m2 / m.a_field_opt_m2, 100.0 / 36.0, kTol);
 }
 
+TEST(Morphometry, CentrelineAndBlockNearMarkedVoxels) {
+    // 10×1×1 row of voxels, voxel 0 marked: within 2 voxels lie voxels 0, 1, 2 (3 of 10). A
+    // centreline along the row, nodes on voxels 0..9 one metre apart: edges 0–1 and 1–2 near at
+    // both ends (2 m), edge 2–3 at one end (0.5 m); 2.5 of 9 m.
+    Grid3<std::uint8_t> marked(Dims{10, 1, 1}, 0);
+    marked[0] = 1;
+    Skeleton s;
+    for (int i = 0; i < 10; ++i) {
+        s.nodes.push_back({{i + 0.5, 0.5, 0.5}, 0.5, std::size_t(i)});
+        if (i > 0) s.edges.push_back({i - 1, i});
+    }
+    const NearMarked n = nearMarked(s, marked, 2.0);
+    EXPECT_EQ(n.block_voxels, 10);
+    EXPECT_EQ(n.block_voxels_near, 3);
+    ASSERT_TRUE(n.block_share.has_value());
+    EXPECT_NEAR(*n.block_share, 0.3, kTol);
+    EXPECT_NEAR(n.length_m, 9.0, kTol);
+    EXPECT_NEAR(n.length_near_m, 2.5, kTol);
+    ASSERT_TRUE(n.centreline_share.has_value());
+    EXPECT_NEAR(*n.centreline_share, 2.5 / 9.0, kTol);
+    // In 3D the ball of radius 2 holds 33 voxels (1 + 6 + 12 + 8 + 6).
+    Grid3<std::uint8_t> cube(Dims{7, 7, 7}, 0);
+    cube.at(3, 3, 3) = 1;
+    EXPECT_EQ(nearMarked(Skeleton{}, cube, 2.0).block_voxels_near, 33);
+    EXPECT_FALSE(nearMarked(Skeleton{}, cube, 2.0).centreline_share.has_value());
+}
+
 TEST(Morphometry, VerticalShaftInATwoDimensionalSection) {
     // ny = 1 section, h = 0.25 m: a shaft at i = 2, k = 0..3, centreline floor to roof (4h).
     const double h = 0.25;
