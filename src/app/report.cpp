@@ -279,12 +279,13 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
     }
     const auto& net = at(r, "network");
     if (!net.is_null()) {
-        md << "- Network (on the skeleton, oriented by pressure; definitions in docs/network-definitions.md): "
+        md << "- Network (flow paths down the stage-2 pressure, mapped onto the skeleton; definitions in "
+              "docs/network-definitions.md): "
            << fmt(at(net, "sources_connected")) << " of " << fmt(at(net, "sources_total"))
            << " sources connected to a sink, " << fmt(at(net, "confluences")) << " confluence(s), "
            << fmt(at(net, "tributary_captures")) << " tributary capture(s), " << fmt(at(net, "phreatic_loops"))
-           << " phreatic loop(s); flow paths descend the stage-2 pressure, share that needed a fallback "
-           << fmt(at(net, "fallback_fraction")) << ".\n";
+           << " phreatic loop(s); share of the paths that needed a fallback: " << fmt(at(net, "fallback_fraction"))
+           << ".\n";
     }
     const auto& mesh = at(r, "mesh");
     if (!mesh.is_null()) {
