@@ -66,7 +66,16 @@ void runStages(Domain& dom, const Scenario& s, Rng& rng, RunRecord& rec, const P
 morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& dom, const Scenario& s, const RunRecord& rec) {
     const std::vector<std::optional<int>> connected =
         rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
-    return morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+    morpho::CaveAnalysis a = morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+    addProtochannelProximity(a, dom, s);
+    return a;
+}
+
+void addProtochannelProximity(morpho::CaveAnalysis& analysis, const Domain& dom, const Scenario& s) {
+    if (!s.stage2.enabled) return;
+    Grid3<std::uint8_t> proto(dom.dims, 0);
+    for (std::size_t v = 0; v < proto.data.size(); ++v) proto[v] = (dom.flags[v] & kProtochannel) ? 1 : 0;
+    analysis.nearProtochannels = morpho::nearMarked(analysis.skeleton, proto, kNearProtochannelVoxels);
 }
 
 PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {

@@ -68,6 +68,13 @@ void runStages(Domain& domain, const Scenario& scenario, Rng& rng, RunRecord& re
 morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& domain, const Scenario& scenario,
                                 const RunRecord& record);
 
+/// Distance (voxels) within which centreline counts as near a stage-1 protochannel.
+inline constexpr double kNearProtochannelVoxels = 2.0;
+
+/// When stage 2 ran: the share of the centreline and of the block within kNearProtochannelVoxels
+/// of a protochannel voxel (flag kProtochannel), stored in `analysis.nearProtochannels`.
+void addProtochannelProximity(morpho::CaveAnalysis& analysis, const Domain& domain, const Scenario& scenario);
+
 /// Builds the domain, runs the enabled stages, meshes, draws and reports into `dir` (staging).
 /// @throw InputError for limits the scenario exceeds (naming the file, line and key);
 ///        RuntimeError on a failure while running

@@ -15,6 +15,7 @@
 #include "core/fnv.h"
 #include "mesh/cave_mesh.h"
 #include "morpho/analysis.h"
+#include "morpho/graph_metrics.h"
 #include "morpho/reference_ranges.h"
 #include "sim/parameters.h"
 #include "sim/scenario_io.h"
@@ -186,6 +187,7 @@ nlohmann::json analysisJson(const morpho::CaveAnalysis& a) {
     j["graph_metrics"] = morpho::toJson(a.metrics);
     j["skeleton"] = {{"nodes", a.skeleton.nodes.size()}, {"edges", a.skeleton.edges.size()}};
     j["cave_category"] = morpho::caveCategory(a.morphometry);
+    if (a.nearProtochannels) j["near_protochannels"] = morpho::toJson(*a.nearProtochannels);
     j["seconds"] = num(a.seconds);
     return j;
 }
@@ -208,6 +210,8 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["stage2"] =
         rec.stage2 ? stage2Json(*rec.stage2, s.voxelSize * s.voxelSize * s.voxelSize) : nlohmann::json(nullptr);
     if (rec.stage2 && rec.connectedAtStart) j["stage2"]["connected_at_start"] = *rec.connectedAtStart;
+    if (rec.stage2 && rec.analysis.is_object() && rec.analysis.contains("near_protochannels"))
+        j["stage2"]["near_protochannels"] = rec.analysis["near_protochannels"];
     for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
@@ -264,17 +268,24 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
            << fmt(at(st2, "breakthrough_iteration"))
            << "; iteration at which each source joined a sink: " << at(st2, "source_connected_iteration").dump()
            << ".\n";
+        const auto& near = at(st2, "near_protochannels");
+        if (!near.is_null())
+            md << "- Near the stage-1 protochannels (within " << fmt(at(near, "radius_vox"))
+               << " voxels): " << fmt(at(near, "centreline_share")) << " of the centreline, "
+               << fmt(at(near, "block_share")) << " of the block.\n";
         md << "- Water balance: injected " << fmt(at(st2, "water_injected"), 6) << ", drained "
            << fmt(at(st2, "water_drained"), 6) << ", relative error " << fmt(at(st2, "water_balance_rel_error"), 2)
            << ".\n";
     }
     const auto& net = at(r, "network");
     if (!net.is_null()) {
-        md << "- Network (on the skeleton, oriented by pressure; definitions in docs/network-definitions.md): "
+        md << "- Network (flow paths down the stage-2 pressure, mapped onto the skeleton; definitions in "
+              "docs/network-definitions.md): "
            << fmt(at(net, "sources_connected")) << " of " << fmt(at(net, "sources_total"))
            << " sources connected to a sink, " << fmt(at(net, "confluences")) << " confluence(s), "
            << fmt(at(net, "tributary_captures")) << " tributary capture(s), " << fmt(at(net, "phreatic_loops"))
-           << " phreatic loop(s).\n";
+           << " phreatic loop(s); share of the paths that needed a fallback: " << fmt(at(net, "fallback_fraction"))
+           << ".\n";
     }
     const auto& mesh = at(r, "mesh");
     if (!mesh.is_null()) {
@@ -307,9 +318,11 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
         md << "## Morphometric indices (paper §4.2)\n\n";
         md << "Cave length " << fmt(at(mo, "length_m")) << " m, plan area " << fmt(at(mo, "area_m2")) << " m², volume "
            << fmt(at(mo, "volume_m3")) << " m³; cave field " << fmt(at(mo, "a_field_opt_m2"))
+           << " m² (optimised: the plan with a margin of half the mean passage spacing, "
+           << fmt(at(mo, "field_margin_m")) << " m, within the convex hull), " << fmt(at(mo, "a_field_hull_m2"))
            << " m² (convex hull of the plan) and " << fmt(at(mo, "a_field_rect_m2"))
            << " m² (bounding rectangle). Category: **" << fmt(at(r, "cave_category")) << "**.\n\n";
-        md << "| index | ours (hull) | ours (rect.) | unconfined (Tab. 2) | confined (Tab. 2) | chamber (Tab. 3) | "
+        md << "| index | ours (opt.) | ours (rect.) | unconfined (Tab. 2) | confined (Tab. 2) | chamber (Tab. 3) | "
               "confined (Tab. 3) |"
            << (paper ? " paper's cave (Tab. 4) |" : "") << "\n|---|---|---|---|---|---|---|" << (paper ? "---|" : "")
            << "\n";
@@ -331,19 +344,23 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
             md << "\n";
             ++row;
         }
-        md << "\n✓/✗: inside/outside the confined range (hull column against Table 2, rectangle column against "
+        md << "\n✓/✗: inside/outside the confined range (optimised column against Table 2, rectangle column against "
               "Table 3).\n";
     }
 
     const auto& gm = at(r, "graph_metrics");
     if (!gm.is_null()) {
-        md << "\n## Network metrics (Collon et al. 2017)\n\n| metric | meaning | ours | real caves (34 networks) |\n"
-              "|---|---|---|---|\n";
+        const bool small = at(gm, "too_small").is_boolean() && at(gm, "too_small").get<bool>();
+        md << "\n## Network metrics (Collon et al. 2017)\n\n";
+        if (small)
+            md << "Too small for network statistics: " << fmt(at(gm, "branches")) << " branch(es), fewer than "
+               << morpho::kMinNetworkBranches << "; the metrics are not compared with the real caves.\n\n";
+        md << "| metric | meaning | ours | real caves (34 networks) |\n|---|---|---|---|\n";
         for (const char* key : kNetworkMetricKeys) {
             if (section && std::string(key) == "h_or") continue;  // plan azimuths: none in a section
             const morpho::ReferenceRange* m = morpho::findReferenceRange(key, "real caves", 0);
             md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key))
-               << inRange(at(gm, key), m) << " | " << rangeText(m) << " |\n";
+               << (small ? std::string(" (too small)") : inRange(at(gm, key), m)) << " | " << rangeText(m) << " |\n";
         }
     }
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "

@@ -23,6 +23,8 @@ struct CaveAnalysis {
     NetworkCounts network;
     Morphometry morphometry;
     GraphMetrics metrics;
+    /// Centreline and block near the stage-1 protochannels; set by the caller that knows them.
+    std::optional<NearMarked> nearProtochannels;
     double seconds = 0;  ///< wall time of the analysis
 };
 

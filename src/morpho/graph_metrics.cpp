@@ -359,6 +359,7 @@ GraphMetrics metricsOf(const Skeleton& s) {
     m.components = labelComponents(adj, n, label);
     m.loops = long(edges.size()) - long(n) + m.components;
     m.branches = long(branches.size());
+    m.too_small = m.branches < kMinNetworkBranches;
 
     // Branch geometry.
     if (!branches.empty()) {
@@ -533,6 +534,7 @@ nlohmann::json toJson(const GraphMetrics& m) {
     j["reduced_nodes"] = m.reduced_nodes;
     j["reduced_edges"] = m.reduced_edges;
     j["pair_sources"] = m.pair_sources;
+    j["too_small"] = m.too_small;
     return j;
 }
 
