@@ -444,14 +444,12 @@ std::vector<ParamSection> makeRegistry() {
             real("spacing", &FractureFamily::spacing, rng(0, 1e6),
                  "mean spacing along the mean pole: P32 = 1 / spacing; 0 = give `density`")
                 .unitIs("voxels"),
-            real("density", &FractureFamily::density, rng(0, 1),
-                 "fractures per unit volume (P30); 0 = give `spacing`")
+            real("density", &FractureFamily::density, rng(0, 1), "fractures per unit volume (P30); 0 = give `spacing`")
                 .unitIs("1/voxel³"),
             real("length_exponent", &FractureFamily::lengthExponent, rng(0, 10, "(]"),
                  "a of the power-law density of disc diameters, p(l) ∝ l^−a on [min_length, max_length]"),
             real("min_length", &FractureFamily::minLength, rng(0, 1e6, "(]"), "least disc diameter").unitIs("voxels"),
-            real("max_length", &FractureFamily::maxLength, rng(0, 1e6, "(]"), "largest disc diameter")
-                .unitIs("voxels"),
+            real("max_length", &FractureFamily::maxLength, rng(0, 1e6, "(]"), "largest disc diameter").unitIs("voxels"),
             real("aperture", &FractureFamily::aperture, rng(0, 1e6, "(]"), "slab thickness across each disc")
                 .unitIs("voxels"),
             real("porosity", &FractureFamily::porosity, rng(0, 1),

@@ -154,7 +154,8 @@ std::vector<SourceSpec> rechargeSources(const Scenario& s) {
     for (std::size_t e = 0; e < s.recharge.size(); ++e) {
         bool fits = true;
         std::vector<SourceSpec> part = expand(s, s.recharge[e], e, fits);
-        if (!fits) throw InputError(s.path + ": [[recharge]] entry " + std::to_string(e + 1) + ": sinkholes do not fit");
+        if (!fits)
+            throw InputError(s.path + ": [[recharge]] entry " + std::to_string(e + 1) + ": sinkholes do not fit");
         all.insert(all.end(), part.begin(), part.end());
     }
     return all;
@@ -168,14 +169,18 @@ void validateRecharge(const Scenario& s) {
     for (std::size_t e = 0; e < s.recharge.size(); ++e) {
         const RechargeSpec& r = s.recharge[e];
         if (!s.site.dem.empty())
-            fail(s, r.line, &r.kind, "\"" + std::string(r.kind == RechargeKind::kSinkholes ? "sinkholes"
-                                                         : r.kind == RechargeKind::kDiffuse ? "diffuse"
-                                                                                            : "stream") + "\"",
+            fail(s, r.line, &r.kind,
+                 "\"" +
+                     std::string(r.kind == RechargeKind::kSinkholes ? "sinkholes"
+                                 : r.kind == RechargeKind::kDiffuse ? "diffuse"
+                                                                    : "stream") +
+                     "\"",
                  "[[recharge]] feeds the block's top face; with a [site] dem the land surface is the DEM: give the "
                  "inputs as [site] sinkholes");
         const bool stream = r.kind == RechargeKind::kStream;
         if (!r.area.empty()) {
-            if (stream) fail(s, r.line, &r.area, intsText(r.area), "a stream follows `points`; give area = [] (or omit it)");
+            if (stream)
+                fail(s, r.line, &r.area, intsText(r.area), "a stream follows `points`; give area = [] (or omit it)");
             if (r.area.size() != 4) fail(s, r.line, &r.area, intsText(r.area), "must be [] or [x0, y0, x1, y1]");
             if (r.area[0] > r.area[2] || r.area[1] > r.area[3])
                 fail(s, r.line, &r.area, intsText(r.area), "the corners must satisfy x0 <= x1, y0 <= y1");
@@ -192,17 +197,20 @@ void validateRecharge(const Scenario& s) {
                              std::to_string(nx - 1) + ", y 0.." + std::to_string(ny - 1) + ", z 0.." +
                              std::to_string(nz - 1) + "; z = " + std::to_string(nz - 1) + " is the top face)");
         } else if (!r.points.empty()) {
-            fail(s, r.line, &r.points, pointsText(r.points), "only a stream takes points; give points = [] (or omit it)");
+            fail(s, r.line, &r.points, pointsText(r.points),
+                 "only a stream takes points; give points = [] (or omit it)");
         }
         if (r.kind == RechargeKind::kDiffuse) {
             const Area a = areaOf(s, r);
-            const double cells = std::ceil((a.x1 - a.x0 + 1) / r.spacing - 1e-9) *
-                                 std::ceil((a.y1 - a.y0 + 1) / r.spacing - 1e-9);
+            const double cells =
+                std::ceil((a.x1 - a.x0 + 1) / r.spacing - 1e-9) * std::ceil((a.y1 - a.y0 + 1) / r.spacing - 1e-9);
             if (double(total) + cells > double(kMaxSources))
                 fail(s, r.line, &r.spacing, numberText(r.spacing),
-                     "gives " + numberText(cells) + " inputs; with the [[source]] entries and the recharge before it "
-                     "that is more than the " + std::to_string(kMaxSources) +
-                     " sources allowed (stage 1 marches one zone per source): raise spacing or shrink the area");
+                     "gives " + numberText(cells) +
+                         " inputs; with the [[source]] entries and the recharge before it "
+                         "that is more than the " +
+                         std::to_string(kMaxSources) +
+                         " sources allowed (stage 1 marches one zone per source): raise spacing or shrink the area");
         }
         bool fits = true;
         const std::vector<SourceSpec> part = expand(s, r, e, fits);
@@ -218,12 +226,13 @@ void validateRecharge(const Scenario& s) {
         if (total > kMaxSources) {
             const void* field = r.kind == RechargeKind::kSinkholes ? static_cast<const void*>(&r.count)
                                                                    : static_cast<const void*>(&r.spacing);
-            fail(s, r.line, field,
-                 r.kind == RechargeKind::kSinkholes ? std::to_string(r.count) : numberText(r.spacing),
-                 "gives " + std::to_string(part.size()) + " inputs; with the [[source]] entries and the recharge "
-                 "before it that is " + std::to_string(total) + " sources, at most " + std::to_string(kMaxSources) +
-                 " are allowed (stage 1 marches one zone per source)" +
-                 (r.kind == RechargeKind::kSinkholes ? std::string() : ": raise spacing"));
+            fail(s, r.line, field, r.kind == RechargeKind::kSinkholes ? std::to_string(r.count) : numberText(r.spacing),
+                 "gives " + std::to_string(part.size()) +
+                     " inputs; with the [[source]] entries and the recharge "
+                     "before it that is " +
+                     std::to_string(total) + " sources, at most " + std::to_string(kMaxSources) +
+                     " are allowed (stage 1 marches one zone per source)" +
+                     (r.kind == RechargeKind::kSinkholes ? std::string() : ": raise spacing"));
         }
         for (const SourceSpec& src : part)
             for (std::size_t j = 0; j < s.sinks.size(); ++j) {
@@ -242,16 +251,16 @@ void validateRecharge(const Scenario& s) {
 void validateFractureFamilies(const Scenario& s) {
     const Dims dims{s.size[0], s.size[1], s.size[2]};
     const int longest = std::max({dims.nx, dims.ny, dims.nz});
-    const std::string block = std::to_string(dims.nx) + " × " + std::to_string(dims.ny) + " × " +
-                              std::to_string(dims.nz) + " voxels";
+    const std::string block =
+        std::to_string(dims.nx) + " × " + std::to_string(dims.ny) + " × " + std::to_string(dims.nz) + " voxels";
     for (const FractureFamily& f : s.fractureFamilies) {
-        if (f.minLength > f.maxLength)
-            fail(s, f.line, &f.minLength, numberText(f.minLength),
-                 "must be at most max_length (" + numberText(f.maxLength) + ")");
         if (f.minLength > longest)
             fail(s, f.line, &f.minLength, numberText(f.minLength),
                  "the fracture family cannot fit: its smallest fracture is longer than the block's longest side (" +
                      block + "): must be in (0, " + std::to_string(longest) + "]");
+        if (f.minLength > f.maxLength)
+            fail(s, f.line, &f.minLength, numberText(f.minLength),
+                 "must be at most max_length (" + numberText(f.maxLength) + ")");
         if (f.spacing > 0 && f.density > 0)
             fail(s, f.line, &f.density, numberText(f.density),
                  "give spacing or density, not both: set one of them to 0 (spacing = " + numberText(f.spacing) + ")");
@@ -259,15 +268,17 @@ void validateFractureFamilies(const Scenario& s) {
             fail(s, f.line, &f.spacing, numberText(f.spacing), "give spacing > 0 or density > 0");
         if (f.spacing > longest)
             fail(s, f.line, &f.spacing, numberText(f.spacing),
-                 "the fracture family cannot fit: its spacing is larger than the block (" + block + "): must be in (0, " +
-                     std::to_string(longest) + "]");
+                 "the fracture family cannot fit: its spacing is larger than the block (" + block +
+                     "): must be in (0, " + std::to_string(longest) + "]");
         const double count = fractureCount(f, dims);
         const void* field = f.density > 0 ? static_cast<const void*>(&f.density) : static_cast<const void*>(&f.spacing);
         const std::string value = numberText(f.density > 0 ? f.density : f.spacing);
         if (count < 1)
             fail(s, f.line, field, value,
                  "the fracture family cannot fit: it gives no fracture in the block (" + block +
-                     ", mean disc diameter about " + numberText(std::sqrt(meanDiscArea(f.lengthExponent, f.minLength, f.maxLength) * 4 / 3.14159265358979)) +
+                     ", mean disc diameter about " +
+                     numberText(
+                         std::sqrt(meanDiscArea(f.lengthExponent, f.minLength, f.maxLength) * 4 / 3.14159265358979)) +
                      " voxels): lower spacing or raise density");
         if (count > 1e6)
             fail(s, f.line, field, value,

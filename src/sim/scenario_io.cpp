@@ -609,8 +609,7 @@ void validateScenario(const Scenario& s) {
     validateFractureFamilies(s);
     validateRecharge(s);
     // Sinkholes and springs of a [site] are sources and sinks too (read later, by the site module).
-    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.recharge.empty() &&
-        s.site.sinkholes.empty()) {
+    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.recharge.empty() && s.site.sinkholes.empty()) {
         throw InputError(s.path + ": key '" + source.path + "': at least one " + source.header() +
                          " is needed when a stage is enabled");
     }

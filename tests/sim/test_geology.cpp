@@ -225,17 +225,24 @@ at = [35, 15, 11]
     // The effective scenario reads back to the same text.
     EXPECT_EQ(scenarioToToml(parseScenarioString(scenarioToToml(s), "e.toml")), scenarioToToml(s));
 
-    const auto bad = [&](const std::string& key, const std::string& value) {
+    const auto bad = [&](const std::string& key, const std::string& value, const std::string& key2 = "",
+                         const std::string& value2 = "") {
         std::string text = std::string(kBlock) + fam;
-        const std::size_t at = text.find(key + " = ");
-        const std::size_t end = text.find('\n', at);
-        return errorOf(text.replace(at, end - at, key + " = " + value));
+        for (const auto& [k, v] : {std::pair{key, value}, std::pair{key2, value2}}) {
+            if (k.empty()) continue;
+            const std::size_t at = text.find(k + " = ");
+            const std::size_t end = text.find('\n', at);
+            text.replace(at, end - at, k + " = " + v);
+        }
+        return errorOf(text);
     };
     EXPECT_NE(bad("min_length", "45.0").find("key 'rock.fracture_family.min_length' = 45"), std::string::npos);
     EXPECT_NE(bad("min_length", "45.0").find("cannot fit"), std::string::npos);
     EXPECT_NE(bad("min_length", "35.0").find("at most max_length"), std::string::npos);
     EXPECT_NE(bad("spacing", "100.0").find("spacing is larger than the block"), std::string::npos);
-    EXPECT_NE(bad("spacing", "39.0").find("gives no fracture"), std::string::npos);
+    // 14 400 voxels³ × 10⁻⁵ = 0.14 discs.
+    EXPECT_NE(bad("spacing", "0.0", "kappa", "50.0\ndensity = 0.00001").find("gives no fracture"), std::string::npos);
+    EXPECT_NE(bad("kappa", "50.0\ndensity = 0.001").find("not both"), std::string::npos);
     EXPECT_NE(bad("kappa", "0.0").find("must be a number in (0, "), std::string::npos);
     EXPECT_NE(bad("spacing", "0.0").find("give spacing > 0 or density > 0"), std::string::npos);
     EXPECT_NE(bad("dip", "95.0").find("bad.toml:"), std::string::npos);
@@ -327,7 +334,7 @@ TEST(Recharge, BadRechargeIsAnErrorNamingTheKey) {
     EXPECT_NE(err("kind = \"diffuse\"\nspacing = 1.0\n").find("more than the 256 sources"), std::string::npos);
     EXPECT_NE(err("kind = \"sinkholes\"\npoints = [[1.0, 1.0, 1.0]]\n").find("only a stream takes points"),
               std::string::npos);
-    EXPECT_EQ(err("area = [0, 0, 40, 10]\n").rfind("bad.toml:12:", 0), 0u);
+    EXPECT_EQ(err("area = [0, 0, 40, 10]\n").rfind("bad.toml:11:", 0), 0u) << err("area = [0, 0, 40, 10]\n");
     // A stage with recharge needs no [[source]].
     EXPECT_EQ(err("count = 2\n"), "");
 }
@@ -343,6 +350,8 @@ porosity = 0.05
 at = [20, 4, 6]
 [stage1]
 boundary_faces = ["-x"]
+[stage2]
+enabled = false
 )";
     const std::string horizon = R"(
 [[rock.inception_horizon]]
