@@ -377,16 +377,14 @@ namespace cavesim::render {
 Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const FractureNetwork& net, int width) {
     checkWidth(width);
     const int families = int(net.families.size());
-    const Frame f = makeFrame(View::kPlan, d.dims, d.voxelSize, width, 1 + (families + 1) / 2);
+    const Frame f = makeFrame(View::kPlan, d.dims, d.voxelSize, width, 1 + families);
     Image img = makeCanvas(f);
-    const CellGrid g = cellGrid(f);
     const Rgb caveShadow{95, 95, 105};
     fillCells(img, f, [&](int u, int v) {
         for (int k = 0; k < d.dims.nz; ++k)
             if (mask.at(u, v, k)) return caveShadow;
         return kRockLight;
     });
-    (void)g;
     const double h = d.voxelSize;
     for (const FractureDisc& disc : net.discs) {
         // Two unit vectors in the disc's plane.
@@ -427,10 +425,9 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
     for (int fam = 0; fam < families; ++fam) {
         const FractureFamilyStats& st = net.families[std::size_t(fam)];
         char text[160];
-        std::snprintf(text, sizeof text, "family %d: %ld discs, mean %03.0f/%02.0f, kappa ~%.0f", fam + 1, st.count,
-                      st.meanDipDirection, st.meanDip, st.kappaEstimate);
-        drawLegend(img, f, 1 + fam / 2, fam % 2 == 0 ? f.vx : f.vx + f.vw / 2,
-                   {{LegendEntry::Kind::kSwatch, zoneColour(fam), Marker::kCircle, text}});
+        std::snprintf(text, sizeof text, "family %d: %ld discs, measured dip direction/dip %03.0f/%02.0f, kappa %.0f",
+                      fam + 1, st.count, st.meanDipDirection, st.meanDip, st.kappaEstimate);
+        drawLegend(img, f, 1 + fam, f.vx, {{LegendEntry::Kind::kSwatch, zoneColour(fam), Marker::kCircle, text}});
     }
     return img;
 }
