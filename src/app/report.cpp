@@ -245,11 +245,12 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["exports"] = rec.exports;
     if (!s.fractureFamilies.empty()) j["fracture_network"] = fractureNetworkJson(s);
     if (!s.recharge.empty()) {
-        const std::vector<SourceSpec> inputs = rechargeSources(s);
+        std::vector<std::size_t> perEntry;
+        const std::vector<SourceSpec> inputs = rechargeSources(s, &perEntry);
         nlohmann::json entries = nlohmann::json::array();
-        for (const RechargeSpec& e : s.recharge) {
-            long n = 0;
-            for (const SourceSpec& q : inputs) n += q.line == e.line ? 1 : 0;
+        for (std::size_t i = 0; i < s.recharge.size(); ++i) {
+            const RechargeSpec& e = s.recharge[i];
+            const std::size_t n = perEntry[i];
             entries.push_back({{"kind", e.kind == RechargeKind::kSinkholes ? "sinkholes"
                                         : e.kind == RechargeKind::kDiffuse ? "diffuse"
                                                                            : "stream"},

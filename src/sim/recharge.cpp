@@ -149,14 +149,16 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
 
 }  // namespace
 
-std::vector<SourceSpec> rechargeSources(const Scenario& s) {
+std::vector<SourceSpec> rechargeSources(const Scenario& s, std::vector<std::size_t>* perEntry) {
     std::vector<SourceSpec> all;
+    if (perEntry) perEntry->clear();
     for (std::size_t e = 0; e < s.recharge.size(); ++e) {
         bool fits = true;
         std::vector<SourceSpec> part = expand(s, s.recharge[e], e, fits);
         if (!fits)
             throw InputError(s.path + ": [[recharge]] entry " + std::to_string(e + 1) + ": sinkholes do not fit");
         all.insert(all.end(), part.begin(), part.end());
+        if (perEntry) perEntry->push_back(part.size());
     }
     return all;
 }

@@ -26,8 +26,9 @@ namespace cavesim {
 ///   input per cell at a seeded column of it, each of `pressure` / the number of cells;
 /// - stream: one one-voxel input every `spacing` voxels of arc length along `points` from the
 ///   first point (the voxel nearest the point; repeats dropped), each of `pressure` / their number.
+/// `perEntry`, when given, receives the number of sources of each entry.
 /// @throw InputError when sinkholes do not fit in their area (validateRecharge says so first)
-std::vector<SourceSpec> rechargeSources(const Scenario& scenario);
+std::vector<SourceSpec> rechargeSources(const Scenario& scenario, std::vector<std::size_t>* perEntry = nullptr);
 
 /// Checks every `[[recharge]]` entry against the block: an area inside the top face, `points`
 /// only and at least two for a stream and inside the block, sinkholes that fit, at most 256
