@@ -158,6 +158,9 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, rec);
     morpho::writeSkeletonFiles(analysis.skeleton, outDir, dom.voxelSize, dom.dims);
     if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
+    if (s.output.images && !s.fractureFamilies.empty())
+        render::writeFracturesPicture(dom, cave.mask, generateFractureNetwork(s.fractureFamilies, dom.dims, s.seed),
+                                      dir.file("images/fractures.png").string(), width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
 

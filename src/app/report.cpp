@@ -17,7 +17,9 @@
 #include "morpho/analysis.h"
 #include "morpho/graph_metrics.h"
 #include "morpho/reference_ranges.h"
+#include "sim/fractures.h"
 #include "sim/parameters.h"
+#include "sim/recharge.h"
 #include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
@@ -192,6 +194,33 @@ nlohmann::json analysisJson(const morpho::CaveAnalysis& a) {
     return j;
 }
 
+/// report.json `fracture_network`: the scenario's discs drawn again (deterministic) and measured.
+static nlohmann::json fractureNetworkJson(const Scenario& s) {
+    const Dims dims{s.size[0], s.size[1], s.size[2]};
+    FractureNetwork net = generateFractureNetwork(s.fractureFamilies, dims, s.seed);
+    measureFractureNetwork(net, s.fractureFamilies, dims);
+    nlohmann::json fams = nlohmann::json::array();
+    double p32 = 0;
+    for (std::size_t f = 0; f < net.families.size(); ++f) {
+        const FractureFamilyStats& st = net.families[f];
+        const FractureFamily& g = s.fractureFamilies[f];
+        p32 += st.p32;
+        fams.push_back({{"line", g.line},
+                        {"count", st.count},
+                        {"given_dip_direction_deg", g.dipDirection},
+                        {"given_dip_deg", g.dip},
+                        {"given_kappa", g.kappa},
+                        {"mean_dip_direction_deg", num(st.meanDipDirection)},
+                        {"mean_dip_deg", num(st.meanDip)},
+                        {"kappa_estimate", num(st.kappaEstimate)},
+                        {"mean_length_m", num(st.meanLength * s.voxelSize)},
+                        {"p32_per_m", num(st.p32 / s.voxelSize)},
+                        {"p32_nominal_per_m", num(st.p32Nominal / s.voxelSize)},
+                        {"slab_voxels", st.voxels}});
+    }
+    return {{"discs", net.discs.size()}, {"p32_per_m", num(p32 / s.voxelSize)}, {"families", fams}};
+}
+
 nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec) {
     nlohmann::json j;
     j["scenario"] = s.name;
@@ -218,6 +247,22 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     if (!rec.speleothems.is_null()) j["speleothems"] = rec.speleothems;
     j["files"] = rec.files;
     j["exports"] = rec.exports;
+    if (!s.fractureFamilies.empty()) j["fracture_network"] = fractureNetworkJson(s);
+    if (!s.recharge.empty()) {
+        std::vector<std::size_t> perEntry;
+        const std::vector<SourceSpec> inputs = rechargeSources(s, &perEntry);
+        nlohmann::json entries = nlohmann::json::array();
+        for (std::size_t i = 0; i < s.recharge.size(); ++i) {
+            const RechargeSpec& e = s.recharge[i];
+            const std::size_t n = perEntry[i];
+            entries.push_back({{"kind", e.kind == RechargeKind::kSinkholes ? "sinkholes"
+                                        : e.kind == RechargeKind::kDiffuse ? "diffuse"
+                                                                           : "stream"},
+                               {"line", e.line},
+                               {"sources", n}});
+        }
+        j["recharge"] = {{"sources", inputs.size()}, {"first_source", s.sources.size() + 1}, {"entries", entries}};
+    }
     j["checksums"] = {{"porosity", checksum(recordedPorosity(dom, s, StateMoment::kFinal))},
                       {"pressure", checksum(dom.pressure)},
                       {"flow", checksum(dom.flow)},
@@ -234,7 +279,28 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
        << s.size[1] * s.voxelSize << " × " << s.size[2] * s.voxelSize << " m), seed " << s.seed << ", "
        << fmt(r.value("threads", nlohmann::json(1))) << " thread(s); " << s.sources.size() << " source(s), "
        << s.sinks.size() << " sink(s), " << s.spheres.size() << " obstacle(s), " << s.planes.size() << " plane(s), "
-       << s.channels.size() << " given channel(s).\n\n";
+       << s.channels.size() << " given channel(s)"
+       << (s.recharge.empty() ? std::string()
+                              : "; " + std::to_string(at(at(r, "recharge"), "sources").get<long>()) +
+                                    " source(s) from " + std::to_string(s.recharge.size()) + " [[recharge]] entries")
+       << (s.inceptionHorizons.empty() ? std::string()
+                                       : ", " + std::to_string(s.inceptionHorizons.size()) + " inception horizon(s)")
+       << ".\n\n";
+    if (r.contains("fracture_network")) {
+        const auto& fn = r["fracture_network"];
+        md << "## Fracture network\n\nDiscs drawn from the seed (docs/geology.md, \"Fracture families\"); the "
+              "orientation and kappa are measured back from the discs; P32 is the disc area inside the block per "
+              "volume.\n\n| family | discs | given dip dir/dip | measured | kappa given/estimated | mean length (m) | "
+              "P32 (1/m) |\n|---|---|---|---|---|---|---|\n";
+        int n = 0;
+        for (const auto& f : at(fn, "families"))
+            md << "| " << ++n << " | " << fmt(at(f, "count")) << " | " << fmt(at(f, "given_dip_direction_deg")) << "/"
+               << fmt(at(f, "given_dip_deg")) << " | " << fmt(at(f, "mean_dip_direction_deg")) << "/"
+               << fmt(at(f, "mean_dip_deg")) << " | " << fmt(at(f, "given_kappa")) << "/"
+               << fmt(at(f, "kappa_estimate")) << " | " << fmt(at(f, "mean_length_m")) << " | "
+               << fmt(at(f, "p32_per_m")) << " |\n";
+        md << "\n";
+    }
 
     md << "## Parameters\n\nEvery key of the scenario's tables; a value that differs from the default is in bold, "
           "with the default beside it.\n\n"

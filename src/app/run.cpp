@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "formats/exports.h"
 #include "sim/preflight.h"
+#include "sim/recharge.h"
 #include "sim/scenario_io.h"
 #include "site/site.h"
 
@@ -25,8 +26,8 @@ std::string validateSummary(const std::string& path) {
     std::snprintf(buf, sizeof buf,
                   "%s: ok: scenario '%s', grid %d x %d x %d (%.3g m voxels), %zu source(s), %zu sink(s), stage 1 %s, "
                   "stage 2 %s",
-                  path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize, s.sources.size(),
-                  s.sinks.size(), s.stage1.enabled ? "on" : "off",
+                  path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize,
+                  s.sources.size() + rechargeSources(s).size(), s.sinks.size(), s.stage1.enabled ? "on" : "off",
                   s.stage2.enabled ? (std::to_string(s.stage2.iterations) + " iterations").c_str() : "off");
     return std::string(buf) + "; " + describeEstimate(estimateRun(s, int(tbb::info::default_concurrency())));
 }

@@ -295,6 +295,7 @@ std::vector<ParamSection> makeRegistry() {
     using RR = RateRule;
     using SI = SourceInflow;
     using PK = PlaneKind;
+    using RK = RechargeKind;
     std::vector<ParamSection> r;
 
     ParamSection& topLevel = r.emplace_back(table<Scenario>(
@@ -408,6 +409,62 @@ std::vector<ParamSection> makeRegistry() {
         }));
     channel.prose = "At most 1024 channels with at most 65 536 points together.";
 
+    ParamSection& inception = r.emplace_back(tableArray(
+        "rock.inception_horizon", &Scenario::inceptionHorizons, 64, "inception horizons: bedding planes of early flow",
+        {
+            real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), "a point on the horizon")
+                .unitIs("voxels")
+                .isRequired("[30.0, 30.0, 10.0]"),
+            real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), "normal of the horizon (need not be unit length)")
+                .rangeShown("each [-10⁶, 10⁶], non-zero"),
+            real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), "slab thickness across the horizon")
+                .unitIs("voxels"),
+            real("porosity", &PlaneFeature::porosity, rng(0, 1),
+                 "porosity inside the slab (the larger of this and the rock's): stage-1 capacity and zone speed "
+                 "follow it"),
+            real("extent", &PlaneFeature::extent, rng(0, 1e6), "in-plane radius around `point`; 0 = unbounded")
+                .unitIs("voxels"),
+        }));
+    inception.prose =
+        "A bedding plane that is an inception horizon (Lowe 1992; KarstNSim): a slab like `[[rock.plane]]`\n"
+        "whose voxels also carry early flow in stage 2. Stage 1 sees its porosity (a higher edge capacity and\n"
+        "a faster zone front); in stage 2 the pressure rate of a horizon voxel that is not yet channel is read\n"
+        "from its porosity against the rock's, by the rule stage-1 protochannels follow with the rock's\n"
+        "porosity in place of the voxel's initial one (docs/geology.md). At most 64.";
+
+    ParamSection& family = r.emplace_back(tableArray(
+        "rock.fracture_family", &Scenario::fractureFamilies, 16, "fracture families: a discrete fracture network",
+        {
+            real("dip_direction", &FractureFamily::dipDirection, rng(0, 360, "[)"),
+                 "azimuth of the mean plane's dip, clockwise from north (+y; +x is east)")
+                .unitIs("degrees"),
+            real("dip", &FractureFamily::dip, rng(0, 90), "mean plane's dip below the horizontal").unitIs("degrees"),
+            real("kappa", &FractureFamily::kappa, rng(0, 1e6, "(]"),
+                 "Fisher concentration of the poles about the mean pole (larger = tighter; 20 ≈ 18° spread)"),
+            real("spacing", &FractureFamily::spacing, rng(0, 1e6),
+                 "mean spacing along the mean pole: P32 = 1 / spacing; 0 = give `density`")
+                .unitIs("voxels"),
+            real("density", &FractureFamily::density, rng(0, 1), "fractures per unit volume (P30); 0 = give `spacing`")
+                .unitIs("1/voxel³"),
+            real("length_exponent", &FractureFamily::lengthExponent, rng(0, 10, "(]"),
+                 "a of the power-law density of disc diameters, p(l) ∝ l^−a on [min_length, max_length]"),
+            real("min_length", &FractureFamily::minLength, rng(0, 1e6, "(]"), "least disc diameter").unitIs("voxels"),
+            real("max_length", &FractureFamily::maxLength, rng(0, 1e6, "(]"), "largest disc diameter").unitIs("voxels"),
+            real("aperture", &FractureFamily::aperture, rng(0, 1e6, "(]"), "slab thickness across each disc")
+                .unitIs("voxels"),
+            real("porosity", &FractureFamily::porosity, rng(0, 1),
+                 "porosity inside the slab (the larger of this and the rock's)"),
+        }));
+    family.prose =
+        "Discs drawn from `seed` (each family its own random stream): centres uniform in the block, poles\n"
+        "from a Fisher distribution about the mean pole, diameters from a truncated power law. Their number\n"
+        "is round(V / (spacing · E[disc area])) or round(density · V), V = nx · ny · nz. A family that cannot\n"
+        "fit — min_length above max_length or above the block's longest side, a spacing above it, no disc\n"
+        "at all, more than 10⁶ discs, both or neither of spacing and density — is an error. At most 16.\n"
+        "report.json `fracture_network` gives each family's count, measured mean orientation, estimated\n"
+        "kappa and P32; `images/fractures.png` draws the traces (docs/geology.md).";
+    family.setLine = [](void* r, int line) { static_cast<FractureFamily*>(r)->line = line; };
+
     ParamSection& source = r.emplace_back(tableArray(
         "source", &Scenario::sources, 256, "",
         {
@@ -449,6 +506,42 @@ std::vector<ParamSection> makeRegistry() {
     sink.params[0].required = false;
     sink.limitReason = "one [[sink]] may be a box of many voxels";
     sink.setLine = [](void* r, int line) { static_cast<SinkSpec*>(r)->line = line; };
+
+    ParamSection& recharge = r.emplace_back(tableArray(
+        "recharge", &Scenario::recharge, 64, "sinkholes, diffuse recharge, sinking streams",
+        {
+            choice("kind", &RechargeSpec::kind,
+                   {{"sinkholes", int(RK::kSinkholes)}, {"diffuse", int(RK::kDiffuse)}, {"stream", int(RK::kStream)}},
+                   "`count` sinkholes drawn from `seed` in `area`; a diffuse input per `spacing` cell of `area`; "
+                   "inputs every `spacing` voxels along `points`"),
+            intList("area", &RechargeSpec::area, rng(0, 1023),
+                    "sinkholes, diffuse: `[x0, y0, x1, y1]`, inclusive voxel columns of the top face; `[]` = all")
+                .unitIs("voxels")
+                .items(0, 4)
+                .shape("[] or [x0, y0, x1, y1]")
+                .rangeShown("[] or 4 column indices inside the top face, x0 ≤ x1, y0 ≤ y1"),
+            integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many"),
+            integer("radius", &RechargeSpec::radius, rng(0, 64),
+                    "sinkholes: each is a (2r+1)² × (r+1) box under the top face, at least 2r+1 apart")
+                .unitIs("voxels"),
+            real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
+                .unitIs("voxels"),
+            real("pressure", &RechargeSpec::pressure, rng(0, 1e6, "(]"),
+                 "sinkholes: each one's `[[source]] pressure`; diffuse, stream: the total, shared equally")
+                .unitIs("relative"),
+            real3List("points", &RechargeSpec::points, rng(-1, 1, "[]", true),
+                      "stream: the polyline, inside the block (z = nz − 1 is the land surface)")
+                .unitIs("voxels")
+                .items(0, 1024)
+                .shape("an array of points [x, y, z]")
+                .rangeShown("stream: 2–1024 points inside the block; otherwise `[]`"),
+        }));
+    recharge.prose =
+        "Recharge expands into ordinary sources in the block's top layer (the land surface), after the\n"
+        "`[[source]]` entries and before a site's sinkholes; everything downstream sees sources. Together with\n"
+        "the `[[source]]` entries at most 256 sources. Recharge outside the top face, sinkholes that do not\n"
+        "fit in their area, or an input on a sink is an error (docs/geology.md).";
+    recharge.setLine = [](void* r, int line) { static_cast<RechargeSpec*>(r)->line = line; };
 
     const std::vector<ParamChoice> faces{{"-x", int(GF::kMinusX)}, {"+x", int(GF::kPlusX)},  {"-y", int(GF::kMinusY)},
                                          {"+y", int(GF::kPlusY)},  {"-z", int(GF::kMinusZ)}, {"+z", int(GF::kPlusZ)}};

@@ -111,7 +111,8 @@ struct ParamSection {
 };
 
 /// Every section, in file order: top level, domain, rock, rock.noise, rock.sphere, rock.plane,
-/// rock.channel, source, sink, stage1, stage2, output, site, site.horizon.
+/// rock.channel, rock.inception_horizon, rock.fracture_family, source, sink, recharge, stage1, stage2,
+/// output, site, site.horizon, speleothems.
 const std::vector<ParamSection>& scenarioParameters();
 
 /// The section at `path` ("stage2", "rock.sphere"); throws RuntimeError when there is none.

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "sim/recharge.h"
 
 namespace cavesim {
 namespace {
@@ -36,8 +37,8 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
     const double n = double(s.size[0]) * double(s.size[1]) * double(s.size[2]);
     e.voxels = n;
     const double domain = kDomainBytes * n;
-    if (s.stage1.enabled && !s.sources.empty()) {
-        const double sources = double(s.sources.size());
+    const double sources = double(s.sources.size() + (s.recharge.empty() ? 0 : rechargeSources(s).size()));
+    if (s.stage1.enabled && sources > 0) {
         const double atOnce = std::min(sources, double(std::max(1, threads)));
         const double zone = std::min({kLargestZone * n / sources, n, double(s.stage1.maxGraphVoxels)});
         e.stage1Bytes =

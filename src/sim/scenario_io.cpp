@@ -18,6 +18,7 @@
 #include "core/text.h"
 #include "sim/default_scenario.h"
 #include "sim/parameters.h"
+#include "sim/recharge.h"
 #include "sim/scenario_toml.h"
 
 namespace cavesim {
@@ -280,8 +281,11 @@ std::pair<const ParamSection*, const Param*> probeParam(F pick) {
         p.spheres.resize(1);
         p.planes.resize(1);
         p.channels.resize(1);
+        p.inceptionHorizons.resize(1);
+        p.fractureFamilies.resize(1);
         p.sources.resize(1);
         p.sinks.resize(1);
+        p.recharge.resize(1);
         return p;
     }();
     return findParam(probe, pick(probe));
@@ -445,7 +449,9 @@ void readValue(TableReader& r, const ParamSection& section, const Param& p, cons
         case ParamType::kReal3: {
             const Vec3d v = r.toVec3(key, *n, lo, hi);
             p.set(record, std::vector<double>(v.begin(), v.end()));
-            if (&p == &entryOf([](Scenario& s) { return &s.planes[0].normal; }) && std::hypot(v[0], v[1], v[2]) < 1e-9)
+            if ((&p == &entryOf([](Scenario& s) { return &s.planes[0].normal; }) ||
+                 &p == &entryOf([](Scenario& s) { return &s.inceptionHorizons[0].normal; })) &&
+                std::hypot(v[0], v[1], v[2]) < 1e-9)
                 r.fail(key, n, "must not be zero");
             break;
         }
@@ -600,8 +606,10 @@ void validateScenario(const Scenario& s) {
                 throw InputError(os.str());
             }
     }
+    validateFractureFamilies(s);
+    validateRecharge(s);
     // Sinkholes and springs of a [site] are sources and sinks too (read later, by the site module).
-    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.site.sinkholes.empty()) {
+    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.recharge.empty() && s.site.sinkholes.empty()) {
         throw InputError(s.path + ": key '" + source.path + "': at least one " + source.header() +
                          " is needed when a stage is enabled");
     }

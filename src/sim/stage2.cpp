@@ -399,12 +399,16 @@ namespace {
 /// documents). Erosion only raises porosity and adds flags, so a voxel's rate only falls.
 float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g) {
     const std::uint8_t f = dom.flags[v];
-    if (g.rateRule == RateRule::kChannelFlag) return float(f & kLowRate ? g.pRateChannel : g.pRate);
+    // An inception horizon carries early flow: its rate is read from its porosity against the rock's
+    // (the protochannel rule with the rock as the baseline), under either rule, until it is channel.
+    const bool inception = !dom.inception.data.empty() && dom.inception[v];
+    const float early = inception ? porosityRate(dom.porosity[v], dom.rockPorosity, g) : float(g.pRate);
+    if (g.rateRule == RateRule::kChannelFlag) return f & kLowRate ? float(g.pRateChannel) : early;
     // [[rock.channel]] conduits are given open (the paper's synthetic protochannels of Figures 8–9);
     // stage-1 protochannels follow their porosity.
     if (f & (kChannel | kOpen | kFeatureChannel)) return float(g.pRateChannel);
-    if (f & kProtochannel) return porosityRate(dom.porosity[v], dom.porosity0[v], g);
-    return float(g.pRate);
+    if (f & kProtochannel) return std::min(early, porosityRate(dom.porosity[v], dom.porosity0[v], g));
+    return early;
 }
 
 /// After voxel v's porosity or flags changed: lowers its rate to `voxelRate` and lists it for the

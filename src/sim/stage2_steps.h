@@ -224,7 +224,8 @@ std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State
 
 /// The pressure rate field of a domain: pRateChannel on channel, source and sink voxels; elsewhere
 /// `porosityRate` (RateRule::kPorosity), or pRateChannel on protochannels and pRate on the rest
-/// (RateRule::kChannelFlag).
+/// (RateRule::kChannelFlag). On an inception horizon (`Domain::inception`) a voxel that is not
+/// channel, source or sink takes at most porosityRate(R, rock porosity), under either rule.
 Grid3<float> rateField(const Domain& domain, const Stage2Options& options);
 
 }  // namespace cavesim::stage2

@@ -108,6 +108,38 @@ grep -q "peak memory about" stdout.txt && pass "estimate printed" || fail "no es
 expect_exit 2 "run larger than the memory limit" -- bash -c "ulimit -v 2000000; exec \"$CAVESIM\" run huge.toml --out o13 -q"
 stderr_has "this process may use"
 [ ! -e o13 ] && pass "no output for the refused run" || fail "o13 was created"
+# Geology and recharge that cannot be: a fracture family that cannot fit, recharge outside the land
+# surface. Each names file, line, key and value, and writes nothing.
+cat good.toml > frac_long.toml
+cat >> frac_long.toml <<'TOML'
+[[rock.fracture_family]]
+dip = 80.0
+min_length = 40.0
+max_length = 60.0
+TOML
+expect_exit 2 "fracture longer than the block" -- "$CAVESIM" run frac_long.toml --out o14
+stderr_has "frac_long.toml:21: key 'rock.fracture_family.min_length' = 40: the fracture family cannot fit"
+[ ! -e o14 ] && pass "no output for a fracture family that cannot fit" || fail "o14 was created"
+sed 's/^min_length = 40.0/min_length = 2.0\nspacing = 30.0/' frac_long.toml > frac_sparse.toml
+expect_exit 2 "fracture spacing larger than the block" -- "$CAVESIM" validate frac_sparse.toml
+stderr_has "key 'rock.fracture_family.spacing' = 30: the fracture family cannot fit"
+sed 's/^min_length = 40.0/kappa = 0.0/' frac_long.toml > frac_kappa.toml
+expect_exit 2 "fracture kappa zero" -- "$CAVESIM" validate frac_kappa.toml
+stderr_has "key 'rock.fracture_family.kappa' = 0.0: must be a number in (0,"
+grep -v -e '^\[\[source\]\]' -e '^at = ' good.toml > recharge_out.toml
+cat >> recharge_out.toml <<'TOML'
+[[recharge]]
+kind = "sinkholes"
+area = [0, 0, 20, 0]
+count = 2
+TOML
+expect_exit 2 "recharge outside the land surface" -- "$CAVESIM" run recharge_out.toml --out o15
+stderr_has "key 'recharge.area' = [0, 0, 20, 0]: recharge outside the land surface"
+[ ! -e o15 ] && pass "no output for recharge outside the land surface" || fail "o15 was created"
+sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0, 0.0, 11.0], [18.0, 0.0, 11.0]]/' \
+  recharge_out.toml > stream_out.toml
+expect_exit 2 "stream outside the block" -- "$CAVESIM" validate stream_out.toml
+stderr_has "key 'recharge.points' = [[1, 0, 11], [18, 0, 11]]: recharge outside the land surface"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"
