@@ -327,6 +327,7 @@ void getEntries(ByteReader& in, std::vector<HeapEntry>& entries, const char* wha
         e.first = in.get<double>(what);
         const std::uint64_t v = in.get<std::uint64_t>(what);
         if (v >= voxels) in.fail("a queued voxel outside the grid");
+        if (!(e.first >= 0) || !std::isfinite(e.first)) in.fail("a queued value that is not a finite number >= 0");
         e.second = std::size_t(v);
     }
 }
@@ -372,6 +373,9 @@ void EikonalField::restore(ByteReader& in, const Dims& dims) {
     f.stencil_ = Stencil(stencil);
     f.value_.dims = dims;
     in.getVector(f.value_.data, "the pressure values", dims.count());
+    if (!(f.cap_ >= 0) || !std::isfinite(f.cap_)) in.fail("a pressure cap that is not a finite number >= 0");
+    for (double v : f.value_.data)
+        if (!(v >= 0) || !(v <= f.cap_)) in.fail("a pressure value outside [0, cap]");
     in.getVector(f.seed_, "the pressure seeds", dims.count());
     getEntries(in, f.pending_, "the pending sweep", dims.count());
     if (!std::is_heap(f.pending_.begin(), f.pending_.end(), std::greater<HeapEntry>()))

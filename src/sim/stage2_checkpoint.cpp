@@ -1,5 +1,6 @@
 #include "sim/stage2_checkpoint.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cavesim::stage2 {
@@ -70,6 +71,21 @@ void restoreState(ByteReader& in, Stage2State& st) {
     in.getVector(st.senderMask, "the sender masks", slots);
     in.getVector(st.workMask, "the work masks", slots);
     in.getVector(st.previousMask, "the previous masks", slots);
+    // A mask may only name voxels of its tile inside the grid (the loops over masks trust them).
+    for (std::size_t s = 0; s < slots; ++s) {
+        const std::uint32_t t = st.activeTiles[s];
+        const int ti = int(t % std::uint32_t(st.tilesX)),
+                  tj = int((t / std::uint32_t(st.tilesX)) % std::uint32_t(st.tilesY)),
+                  tk = int(t / (std::uint32_t(st.tilesX) * std::uint32_t(st.tilesY)));
+        const int ni = std::min(kTileSize, st.dims.nx - ti * kTileSize),
+                  nj = std::min(kTileSize, st.dims.ny - tj * kTileSize),
+                  nk = std::min(kTileSize, st.dims.nz - tk * kTileSize);
+        for (std::size_t r = 0; r < 64; ++r) {
+            const unsigned inside = int(r & 7) < nj && int(r >> 3) < nk ? (1u << ni) - 1u : 0u;
+            for (const std::vector<TileMask>* m : {&st.senderMask, &st.workMask, &st.previousMask})
+                if ((*m)[s][r] & ~inside) in.fail("a tile mask naming voxels outside the grid");
+        }
+    }
     for (std::vector<double>* f :
          {&st.norm, &st.scale, &st.incoming, &st.accept, &st.fc, &st.fa, &st.upShare, &st.drainedHere, &st.erodedHere})
         in.getVector(*f, "a transient of the active tiles", slots * kTileVoxels);
