@@ -139,10 +139,11 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
             c.frames = frames;
             c.stage2 = state;
             const std::string bytes = encodeCheckpoint(c);
+            const double encoded = tc.seconds();
             writeFileAtomic((options.checkpointDir / kCheckpointFile).string(), bytes);
             char line[160];
-            std::snprintf(line, sizeof line, "checkpoint after iteration %d: %.1f MB in %.3f s", it,
-                          double(bytes.size()) / 1e6, tc.seconds());
+            std::snprintf(line, sizeof line, "checkpoint after iteration %d: %.1f MB in %.3f s (%.3f s to encode)", it,
+                          double(bytes.size()) / 1e6, tc.seconds(), encoded);
             say(options.log, line);
         };
     }
