@@ -187,10 +187,14 @@ void decodeCarry(const std::string& bytes, const std::string& shown, Carry& c, D
     }
     c.stored = in.get<double>("the stored water");
     getGrid(in, c.rate, d, "the pressure rates");
+    for (float x : c.rate.data)
+        if (!(x > 0) || !std::isfinite(x)) in.fail("a pressure rate that is not a finite number > 0");
     c.pressure.restore(in, d);
     c.state = Stage2State(d);
     restoreState(in, c.state);
     getGrid(in, dom.porosity, d, "the porosity");
+    for (float x : dom.porosity.data)
+        if (!(x >= 0 && x <= 1)) in.fail("a porosity outside [0, 1]");
     getGrid(in, dom.flags, d, "the flags");
     getGrid(in, dom.flow, d, "the flow");
     getGrid(in, dom.water, d, "the water");
