@@ -111,10 +111,9 @@ RunOutcome execute(const RunRequest& request, const Scenario& s, const PipelineO
     // The last safe point: a caller that asked to stop meanwhile gets nothing moved into place.
     reportProgress(options.progress, "moving results into place", 0, 1);
     dir.commit();
-    if (request.checkpointEvery > 0 || resume) {  // the run is complete: its checkpoint is spent
-        std::error_code ec;
-        fs::remove_all(checkpoints, ec);
-    }
+    // The folder is complete: a checkpoint of a run into it (this one's, or an older one's) is spent.
+    std::error_code ec;
+    if (fs::exists(checkpoints, ec)) fs::remove_all(checkpoints, ec);
     return RunOutcome{out, result.totalSeconds, result.breakthroughIteration};
 }
 

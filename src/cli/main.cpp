@@ -3,11 +3,13 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <new>
 
 #include <CLI/CLI.hpp>
 
+#include "app/checkpoint.h"
 #include "app/commands.h"
 #include "app/ensemble.h"
 #include "cli/interrupt.h"
@@ -186,7 +188,12 @@ int main(int argc, char** argv) {
             return 0;
         }
     } catch (const Cancelled& e) {
-        std::fprintf(stderr, "\ncavesim: interrupted by %s: stopped, the unfinished output was removed\n", e.what());
+        // A checkpoint of the stopped run (run --checkpoint-every, resume) stays for `cavesim resume`.
+        const std::string dir = *resumeCmd ? resume.dir : run.checkpointEvery > 0 ? run.outDir : std::string();
+        std::error_code ec;
+        const bool kept = !dir.empty() && std::filesystem::exists(app::checkpointDir(dir) / app::kCheckpointFile, ec);
+        std::fprintf(stderr, "\ncavesim: interrupted by %s: stopped, the unfinished output was removed%s\n", e.what(),
+                     kept ? ("; its checkpoint is kept: `cavesim resume " + dir + "` continues it").c_str() : "");
         return 128 + cli::stopSignal();
     } catch (const InputError& e) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());

@@ -93,6 +93,22 @@ stderr_has "not empty"
 expect_exit 0 "resume with --force" -- "$CAVESIM" resume q --force -q
 same_outputs whole q "resumed with --force"
 
+# SIGTERM: the staging folder goes, the checkpoint stays and the message says how to go on.
+sed -e 's/^iterations = 120/iterations = 100000/' s.toml > long.toml
+"$CAVESIM" run long.toml --out t --checkpoint-every 5 -j1 >stdout.txt 2>stderr.txt &
+pid=$!
+for _ in $(seq 1 300); do [ -f .t.checkpoint/checkpoint.cavesim ] && break; sleep 0.1; done
+kill -s TERM "$pid"
+wait "$pid"
+got=$?
+[ "$got" -eq 143 ] && pass "SIGTERM with checkpoints (exit 143)" || fail "SIGTERM with checkpoints: exit $got"
+stderr_has "cavesim resume t"
+[ -f .t.checkpoint/checkpoint.cavesim ] && [ -z "$(ls -A | grep '^\.t\.partial')" ] && pass "SIGTERM: checkpoint kept, staging removed" ||
+  fail "SIGTERM: left $(ls -A)"
+# A run into the folder that succeeds makes an older checkpoint of it spent.
+expect_exit 0 "a run without checkpoints into t" -- "$CAVESIM" run s.toml --out t -q
+[ ! -e .t.checkpoint ] && pass "the older checkpoint removed" || fail ".t.checkpoint left behind"
+
 # Damaged checkpoints: exit 2, a message naming the file, nothing written.
 expect_exit 137 "killed after iteration 40" -- env CAVESIM_TEST_KILL_AT_ITERATION=40 \
   "$CAVESIM" run s.toml --formats all --out d --checkpoint-every 20 -q
