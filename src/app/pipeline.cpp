@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "app/cave_maps.h"
+#include "app/checkpoint.h"
 #include "app/report.h"
 #include "app/speleo_report.h"
 #include "app/state.h"
@@ -58,7 +59,7 @@ void runStages(Domain& dom, const Scenario& s, Rng& rng, RunRecord& rec, const P
         const Stopwatch t2;
         prepareStage2(dom, s.stage2);
         if (hooks.beforeStage2) hooks.beforeStage2(dom, rec);
-        rec.stage2 = runStage2(dom, s.stage2, progress, hooks.snapshot);
+        rec.stage2 = runStage2(dom, s.stage2, progress, hooks.snapshot, hooks.checkpoints);
         rec.timing.stage2 = t2.seconds();
     }
 }
@@ -103,7 +104,24 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
                              std::to_string(r.stage1->protochannelVoxels) + " protochannel voxels in " +
                              std::to_string(r.timing.stage1).substr(0, 5) + " s");
     };
-    hooks.beforeStage2 = [](const Domain& d, RunRecord& r) { r.connectedAtStart = sourcesConnectedAtStart(d); };
+    std::vector<std::string> stage2Files;  // files stage 2 wrote so far: a checkpoint carries them
+    std::uint64_t domainHash = 0;          // the domain at the start of stage 2 (checkpoints)
+    const bool checkpointing = options.checkpoint.every > 0;
+    hooks.beforeStage2 = [&](const Domain& d, RunRecord& r) {
+        r.connectedAtStart = sourcesConnectedAtStart(d);
+        if (!checkpointing && !options.resume) return;
+        domainHash = domainFingerprint(d);
+        if (!options.resume) return;
+        if (domainHash != options.resume->domainHash)
+            throw InputError(options.resumeName +
+                             ": the domain at the start of stage 2 is not the one the checkpoint was made from (a "
+                             "file the scenario reads changed, or another version of cavesim); rerun `cavesim run`");
+        for (const auto& [path, bytes] : options.resume->files) {
+            writeFileAtomic(dir.file(path).string(), bytes);
+            stage2Files.push_back(path);
+        }
+        frames = options.resume->frames;
+    };
     if (s.output.images && nFrames > 0) {
         hooks.snapshot = [&](int it, const Domain& d) {
             char name[64];
@@ -111,7 +129,31 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
             render::Image frame =
                 render::stateFrame(d, caveMask(d, s.output.cave), "iteration " + std::to_string(it), width);
             render::writePng(dir.file(name).string(), frame);
+            stage2Files.push_back(name);
             frames.push_back(render::downsample(frame, reduce));
+        };
+    }
+    if (options.resume) {
+        hooks.checkpoints.resume = &options.resume->stage2;
+        hooks.checkpoints.resumeName = options.resumeName;
+    }
+    if (checkpointing) {
+        hooks.checkpoints.every = options.checkpoint.every;
+        hooks.checkpoints.save = [&](int it, const std::string& state) {
+            const Stopwatch tc;
+            Checkpoint c = options.checkpoint;
+            c.domainHash = domainHash;
+            c.iteration = it;
+            for (const std::string& f : stage2Files) c.files.emplace_back(f, readFileBytes(dir.file(f)));
+            c.frames = frames;
+            c.stage2 = state;
+            const std::string bytes = encodeCheckpoint(c);
+            const double encoded = tc.seconds();
+            writeFileAtomic((options.checkpointDir / kCheckpointFile).string(), bytes);
+            char line[160];
+            std::snprintf(line, sizeof line, "checkpoint after iteration %d: %.1f MB in %.3f s (%.3f s to encode)", it,
+                          double(bytes.size()) / 1e6, tc.seconds(), encoded);
+            say(options.log, line);
         };
     }
     runStages(dom, s, rng, rec, progress, hooks);

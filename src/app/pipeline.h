@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/checkpoint.h"
 #include "app/output_dir.h"
 #include "app/report.h"
 #include "core/progress.h"
@@ -32,6 +33,13 @@ struct PipelineOptions {
     std::optional<CaveExtent> alsoMeasure;
     ProgressFn progress;
     LogFn log;
+    /// Checkpoints (app/checkpoint.h) after every `checkpoint.every`-th stage-2 iteration (0: none),
+    /// into `checkpointDir`; `checkpoint` holds how the run was asked for, the rest is filled in.
+    Checkpoint checkpoint;
+    std::filesystem::path checkpointDir;
+    /// Not null: continue stage 2 from this checkpoint (its domain fingerprint is checked).
+    const Checkpoint* resume = nullptr;
+    std::string resumeName;  ///< names `resume`'s file in messages
 };
 
 struct PipelineResult {
@@ -54,6 +62,8 @@ struct StageHooks {
     std::function<void(const Domain& domain, RunRecord& record)> beforeStage2;
     /// Stage 2's snapshots (runStage2).
     SnapshotFn snapshot;
+    /// Stage 2's checkpoints, or the state it continues from (runStage2).
+    Stage2Checkpoints checkpoints;
 };
 
 /// The enabled stages of `scenario` on `domain` as a run runs them (built by buildDomain with

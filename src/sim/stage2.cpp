@@ -13,6 +13,7 @@
 #include "core/timer.h"
 #include "fastmarch/fast_marching.h"
 #include "sim/connectivity.h"
+#include "sim/stage2_checkpoint.h"
 #include "sim/stage2_steps.h"
 
 namespace cavesim {
@@ -860,29 +861,38 @@ Grid3<double> solvePressureFull(const Domain& dom, const Stage2Options& g) {
     return field.value();
 }
 
-Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& progress, const SnapshotFn& snapshot) {
+Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& progress, const SnapshotFn& snapshot,
+                       const Stage2Checkpoints& checkpoints) {
     const Stopwatch t0;
     const Dims d = dom.dims;
     const std::size_t n = d.count();
-    Stage2Result res;
-    res.pressureCap = stage2PressureCap(dom, g);
-    res.sourceConnectedIteration.assign(dom.sourceVoxels.size(), std::nullopt);
-    std::vector<Refill> refill = refillLevels(dom);
+    Carry c(d);
+    Stage2Result& res = c.result;
+    std::vector<Refill>& refill = c.refill;
     const bool byHead = g.inflow == SourceInflow::kHead;
-    res.sourceInjected.assign(dom.sourceVoxels.size(), 0.0);
+    Grid3<float>& rate = c.rate;
+    fastmarch::EikonalField& pressure = c.pressure;
+    Stage2State& st = c.state;
+    double& stored = c.stored;
+    double secondsBefore = 0;  // a resumed run's time before it stopped
 
-    Grid3<float> rate = rateField(dom, g);
-    fastmarch::EikonalField pressure;
-
-    Stage2State st(d);
-    startStage2(dom, g, st, rate);
-    {
+    if (checkpoints.resume) {
+        decodeCarry(*checkpoints.resume, checkpoints.resumeName, c, dom);
+        if (c.iteration > g.iterations || res.sourceConnectedIteration.size() != dom.sourceVoxels.size())
+            throw InputError(checkpoints.resumeName + ": a stage-2 state that does not belong to this scenario");
+        secondsBefore = res.seconds;
+    } else {
+        res.pressureCap = stage2PressureCap(dom, g);
+        res.sourceConnectedIteration.assign(dom.sourceVoxels.size(), std::nullopt);
+        refill = refillLevels(dom);
+        res.sourceInjected.assign(dom.sourceVoxels.size(), 0.0);
+        rate = rateField(dom, g);
+        startStage2(dom, g, st, rate);
         const Stopwatch tp;
         pressure.solve(d, rate, sinkSeeds(dom), res.pressureCap, fastmarch::Stencil::kAvalanche26);
         res.pressureSeconds += tp.seconds();
     }
     std::vector<std::size_t> changed, conducting;
-    double stored = 0;
     // Water and the settled pressure field into the domain.
     const auto publish = [&] {
         pressure.settle(rate);
@@ -892,7 +902,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         }
     };
 
-    for (int it = 1; it <= g.iterations; ++it) {
+    for (int it = c.iteration + 1; it <= g.iterations; ++it) {
         Stage2Record rec;
         rec.iteration = it;
         const double storedBefore = stored;
@@ -940,10 +950,15 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         if (rec.sourcesConnected > 0 && !res.breakthroughIteration) res.breakthroughIteration = it;
         res.history.push_back(rec);
         res.iterations = it;
+        c.iteration = it;
 
         if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
             publish();  // the whole field for the picture
             snapshot(it, dom);
+        }
+        if (checkpoints.save && checkpoints.every > 0 && it % checkpoints.every == 0 && it < g.iterations) {
+            res.seconds = secondsBefore + t0.seconds();
+            checkpoints.save(it, encodeCarry(c, dom));
         }
         reportProgress(progress, "stage 2", it, g.iterations);
     }
@@ -957,8 +972,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         throw RuntimeError("stage 2: water not conserved (relative error " + std::to_string(res.waterBalanceRelError) +
                            ")");
     }
-    res.seconds = t0.seconds();
-    return res;
+    res.seconds = secondsBefore + t0.seconds();
+    return std::move(res);
 }
 
 }  // namespace cavesim

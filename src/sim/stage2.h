@@ -31,6 +31,7 @@
 
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/progress.h"
@@ -72,6 +73,19 @@ struct Stage2Result {
 /// Called after the iterations listed in `[stage2] snapshots` (and never otherwise).
 using SnapshotFn = std::function<void(int iteration, const Domain& domain)>;
 
+/// Checkpoints of stage 2: its whole state between two iterations as bytes
+/// (sim/stage2_checkpoint.h), to continue a stopped run bit for bit.
+struct Stage2Checkpoints {
+    int every = 0;  ///< iterations between checkpoints; 0: none
+    /// Called after every `every`-th iteration except the last (after its snapshot) with the
+    /// iteration and the state's bytes.
+    std::function<void(int iteration, const std::string& state)> save;
+    /// Not null: continue from these bytes (a state `save` received, for this domain after
+    /// `prepareStage2`) with the iteration after theirs, instead of starting.
+    const std::string* resume = nullptr;
+    std::string resumeName;  ///< names `resume`'s source in messages
+};
+
 /// The interim step between the stages (paper §4): porosity back to its initial values,
 /// protochannel voxels raised to `options.protochannelPorosity`, sources set to
 /// `options.sourcePorosity` and sinks opened (porosity 1: they are the inlets and outlets);
@@ -87,8 +101,11 @@ double stage2PressureCap(const Domain& domain, const Stage2Options& options);
 
 /// Runs the stage-2 iterations on a prepared domain.
 /// @throw RuntimeError if water conservation or finiteness is violated (a bug, never user input)
+/// With `checkpoints`, saves its state every so many iterations, or continues from a saved state:
+/// the result is the same bits either way.
+/// @throw InputError when `checkpoints.resume` is not a state of this domain (damaged bytes)
 Stage2Result runStage2(Domain& domain, const Stage2Options& options, const ProgressFn& progress = {},
-                       const SnapshotFn& snapshot = {});
+                       const SnapshotFn& snapshot = {}, const Stage2Checkpoints& checkpoints = {});
 
 /// Recomputes the pressure of the current domain from scratch (used by tests and by the
 /// incremental-update check): same rule as inside runStage2.
