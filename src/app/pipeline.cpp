@@ -6,6 +6,7 @@
 
 #include "app/cave_maps.h"
 #include "app/report.h"
+#include "app/section_picture.h"
 #include "app/speleo_report.h"
 #include "app/state.h"
 #include "core/timer.h"
@@ -148,7 +149,10 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const Stopwatch tr;
     const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, rec);
     morpho::writeSkeletonFiles(analysis.skeleton, outDir, dom.voxelSize, dom.dims);
-    if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
+    if (s.output.images) {
+        writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
+        writeSectionsPicture(analysis.sections, s.name, imagesDir);
+    }
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
 

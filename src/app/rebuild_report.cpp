@@ -85,7 +85,7 @@ std::string rebuildReport(const std::string& dirArg) {
     report["grid"] = {s.size[0], s.size[1], s.size[2]};
     report["voxel_size_m"] = s.voxelSize;
     report["seed"] = s.seed;
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"}) report[k] = a[k];
+    for (const char* k : kAnalysisKeys) report[k] = a[k];
     if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
     report["timing_s"]["report"] = t0.seconds();
     writeReportFiles(s, report, dir.string());
