@@ -34,7 +34,7 @@ std::string patternMarkdown(const nlohmann::json& r) {
         {"junction_degree_mean", "mean junction degree"},
         {"dead_end_share", "share of branches with a blind end"},
         {"orientation_entropy", "orientation entropy h_or"},
-        {"orthogonal_share", "orthogonal share (two perpendicular directions ± 15°)"},
+        {"orthogonal_share", "orthogonal share (two perpendicular directions ± 10°)"},
         {"orthogonal_azimuth_deg", "azimuth of the orthogonal pair (°)"},
         {"family_share", "share along the fracture families"},
         {"slab_thickness_m", "bed slab thickness (m)"},

@@ -161,11 +161,19 @@ PatternResult classifyPattern(const Skeleton& skeleton, const GraphMetrics& metr
     // Orientation.
     const auto edges = horizontalEdges(skeleton);
     if (!edges.empty()) {
-        double best = -1;
+        // Largest share; among equal shares, the pair nearest the aligned edges (least
+        // length-weighted distance), then the smallest θ.
+        double best = -1, bestSpread = 0;
         for (int theta = 0; theta < 90; ++theta) {
             const double share = shareNear(edges, {double(theta), double(theta + 90)}, o.alignedToleranceDeg);
-            if (share > best + 1e-12) {
-                best = share;
+            double spread = 0;
+            for (const HorizontalEdge& e : edges) {
+                const double dist = std::min(axialDistance(e.azimuth, theta), axialDistance(e.azimuth, theta + 90.0));
+                if (dist <= o.alignedToleranceDeg + 1e-9) spread += e.weight * dist;
+            }
+            if (share > best + 1e-12 || (share > best - 1e-12 && spread < bestSpread - 1e-9)) {
+                best = std::max(best, share);
+                bestSpread = spread;
                 r.orthogonal_azimuth_deg = double(theta);
             }
         }

@@ -12,9 +12,10 @@
 ///  - **dead-end share**: branches with an end of degree 1 / branches.
 ///  - **orientation**: `h_or` (graph_metrics.h) and the *orthogonal share*: the largest share of
 ///    horizontal centreline length (each edge weighted by its horizontal length) whose azimuth lies
-///    within `alignedToleranceDeg` of θ or θ + 90°, over θ in whole degrees [0°, 90°) (ties: the
-///    smallest θ). An even spread of directions gives 4·tol/180° (1/3 for 15°). With fracture
-///    family strikes given, the *family share*: the share within the tolerance of any strike.
+///    within `alignedToleranceDeg` of θ or θ + 90°, over θ in whole degrees [0°, 90°) (ties: the θ
+///    whose pair lies nearest the aligned edges, length-weighted, then the smallest θ). An even
+///    spread of directions gives 4·tol/180° (0.22 for 10°). With fracture family strikes given,
+///    the *family share*: the share within the tolerance of any strike.
 ///  - **planarity along beds**: the largest share of centreline length (edge midpoints, weighted
 ///    by edge length) within one slab normal to `bedNormal` of thickness
 ///    `slabDiameters` × the mean passage diameter (2 × length-weighted mean node radius);
@@ -43,7 +44,7 @@ struct PatternOptions {
     /// A maze holds at least this many independent loops per branch. In (0, 1].
     double mazeLoopsPerBranch = 0.2;
     /// Half-width of the direction bins of the orthogonal and family shares, degrees, in (0, 45].
-    double alignedToleranceDeg = 15.0;
+    double alignedToleranceDeg = 10.0;
     /// A maze whose orthogonal (or family) share reaches this is a network maze, in (0, 1].
     double networkAlignedShare = 0.6;
     /// A network whose bed share reaches this is planar (along one bed), in (0, 1].
