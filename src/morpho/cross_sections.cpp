@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/parallel_for.h>
+
 #include "core/check.h"
 #include "morpho/graph_metrics.h"
 
@@ -170,7 +172,10 @@ CrossSections measureCrossSections(const Grid3<std::uint8_t>& mask, double voxel
     }
     const int spv = o.samplesPerVoxel;
     const int cap = 64 * spv;
-    for (std::size_t b = 0; b < branches.size(); ++b) {
+    out.passages.resize(branches.size());
+    std::vector<int> stationCount(branches.size(), 0);
+    // Each passage writes only its own slot: the result does not depend on the thread count.
+    tbb::parallel_for(std::size_t(0), branches.size(), [&](std::size_t b) {
         const Branch& br = branches[b];
         const std::size_t m = br.nodes.size();
         auto pos = [&](std::size_t i) -> const Vec3d& { return skeleton.nodes[std::size_t(br.nodes[i])].position; };
@@ -199,11 +204,20 @@ CrossSections measureCrossSections(const Grid3<std::uint8_t>& mask, double voxel
         for (std::size_t i = 1; i + 1 < m; ++i)
             if (arc[i] >= keepFront && total - arc[i] >= keepBack) allowed.push_back(i);
         std::vector<std::size_t> stations;
-        for (std::size_t a = 0; a < allowed.size(); a += std::size_t(o.stationStride)) stations.push_back(allowed[a]);
+        // Every stationStride-th node, and at least the last station's passage radius along the chain
+        // from it (sections about one radius apart in wide passages).
+        for (std::size_t a = 0; a < allowed.size(); a += std::size_t(o.stationStride)) {
+            const std::size_t i = allowed[a];
+            if (!stations.empty()) {
+                const std::size_t last = stations.back();
+                if (arc[i] - arc[last] < skeleton.nodes[std::size_t(br.nodes[last])].radius) continue;
+            }
+            stations.push_back(i);
+        }
         if (stations.empty()) {
             ps.cls = SectionClass::kShort;
-            out.passages.push_back(std::move(ps));
-            continue;
+            out.passages[b] = std::move(ps);
+            return;
         }
 
         std::vector<SectionSlice> slices;
@@ -228,7 +242,7 @@ CrossSections measureCrossSections(const Grid3<std::uint8_t>& mask, double voxel
             shapes.push_back(measureSection(slices.back(), o));
             ++ps.votes[std::size_t(shapes.back().cls)];
         }
-        out.stations += int(stations.size());
+        stationCount[b] = int(stations.size());
         int best = 0;
         for (int c = 1; c < kSectionClasses; ++c)
             if (ps.votes[std::size_t(c)] > ps.votes[std::size_t(best)]) best = c;
@@ -251,8 +265,9 @@ CrossSections measureCrossSections(const Grid3<std::uint8_t>& mask, double voxel
                 ps.exampleShape = shapes[k];
             }
         }
-        out.passages.push_back(std::move(ps));
-    }
+        out.passages[b] = std::move(ps);
+    });
+    for (int n : stationCount) out.stations += n;
     return out;
 }
 

@@ -3,14 +3,17 @@
 /// class — tube, canyon, keyhole or other (Palmer 2007; Paris et al. 2021 draw the same three
 /// shapes) — per station and per passage. Rules and reasons: docs/geology.md, "Cross-sections".
 ///
-/// A *station* is a centreline node of a passage (`findBranches`), every `stationStride`-th,
-/// leaving out the passage's two end nodes and the nodes within 1.5 junction radii + one voxel
-/// (along the chain) of a junction end, where passages merge; a passage left without a station
-/// is `kShort`: listed, not classified, no width or height. At a station the *slice* is the vertical plane through the
-/// node perpendicular to the passage's horizontal heading (a surveyor's cross-section; a vertical passage is sliced
-/// across north), sampled every `step` = voxel size / `samplesPerVoxel` on a grid centred on the node: a sample is cave
-/// when the voxel holding it is. The section is the 4-connected set of cave samples that holds the centre sample (or,
-/// when the smoothed node falls outside the cave, the sample nearest it that is cave).
+/// A *station* is a centreline node of a passage (`findBranches`), every `stationStride`-th and
+/// at least the previous station's radius along the chain from it, leaving out the passage's two
+/// end nodes and the nodes within 1.5 junction radii + one voxel (along the chain) of a junction
+/// end, where passages merge; a passage left without a station is `kShort`: listed, not
+/// classified, no width or height. At a station the *slice* is the vertical plane through the
+/// node perpendicular to the passage's horizontal heading (a surveyor's cross-section; a vertical
+/// passage is sliced across north), sampled every `step` = voxel size / `samplesPerVoxel` on a
+/// grid centred on the node: a sample is cave when the voxel holding it is. The section is the
+/// 4-connected set of cave samples that holds the centre sample (or, when the smoothed node falls
+/// outside the cave, the sample nearest it that is cave). Passages are measured in parallel, each
+/// into its own slot: the result does not depend on the thread count.
 ///
 /// Measures of a section (metres): height H = rows × step; width W = the widest row (cave samples
 /// in the row × step); area = samples × step². Class, in this order:
