@@ -26,7 +26,8 @@ std::string patternMarkdown(const nlohmann::json& r) {
     if (!c.is_object()) return md.str();
     md << "| criterion | value |\n|---|---|\n";
     const std::pair<const char*, const char*> rows[] = {
-        {"branches", "branches"},
+        {"branches", "branches (chamber stubs aside)"},
+        {"chamber_branches", "chamber stubs merged into their junction"},
         {"loops", "independent loops"},
         {"loops_per_km", "loops per km"},
         {"loops_per_branch", "loops per branch"},

@@ -32,8 +32,10 @@ CaveAnalysis analyseCave(const Cave& cave, const Grid3<float>* pressure,
         a.pattern.pattern = "not classified";
         a.pattern.rule = "a 2D section has no plan pattern";
     } else {
+        PatternOptions po;
+        po.voxelSize = cave.voxelSize;
         a.pattern =
-            classifyPattern(a.skeleton, a.metrics, a.morphometry.areal_coverage_pct_opt / 100.0, {}, familyStrikesDeg);
+            classifyPattern(a.skeleton, a.metrics, a.morphometry.areal_coverage_pct_opt / 100.0, po, familyStrikesDeg);
         a.sections = measureCrossSections(cave.mask, cave.voxelSize, a.skeleton);
     }
     a.seconds = watch.seconds();

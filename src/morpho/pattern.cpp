@@ -70,7 +70,7 @@ PatternResult classifyPattern(const Skeleton& skeleton, const GraphMetrics& metr
     CAVESIM_CHECK(o.minBranches >= 1 && o.mazeLoopsPerBranch > 0 && o.mazeLoopsPerBranch <= 1 &&
                       o.alignedToleranceDeg > 0 && o.alignedToleranceDeg <= 45 && o.networkAlignedShare > 0 &&
                       o.networkAlignedShare <= 1 && o.planarBedShare > 0 && o.planarBedShare <= 1 &&
-                      o.slabDiameters > 0 && o.ramiformWidthCv > 0,
+                      o.slabDiameters > 0 && o.ramiformWidthCv > 0 && o.voxelSize >= 0,
                   "pattern options out of range");
     const double nLen =
         std::sqrt(o.bedNormal[0] * o.bedNormal[0] + o.bedNormal[1] * o.bedNormal[1] + o.bedNormal[2] * o.bedNormal[2]);
@@ -78,8 +78,6 @@ PatternResult classifyPattern(const Skeleton& skeleton, const GraphMetrics& metr
     const Vec3d n{o.bedNormal[0] / nLen, o.bedNormal[1] / nLen, o.bedNormal[2] / nLen};
 
     PatternResult r;
-    r.branches = metrics.branches;
-    r.loops = metrics.loops;
     r.orientation_entropy = metrics.h_or;
     r.plan_coverage = planCoverage;
 
@@ -89,28 +87,66 @@ PatternResult classifyPattern(const Skeleton& skeleton, const GraphMetrics& metr
         ++degree[std::size_t(e[0])];
         ++degree[std::size_t(e[1])];
     }
-    long degreeSum = 0;
-    for (int d : degree) {
-        if (d >= 3) {
-            ++r.junctions;
-            degreeSum += d;
-        }
+    for (int d : degree)
         if (d == 1) ++r.dead_ends;
+
+    // Chamber stubs: a branch between two junctions shorter than their two radii (+ one voxel) lies inside one
+    // junction chamber; its ends are merged into one junction (union-find, in branch order), and a
+    // stub whose ends are merged already (a pillar inside the chamber) drops its loop.
+    const std::vector<Branch> branches = findBranches(skeleton);
+    std::vector<int> parent(skeleton.nodes.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&parent](int v) {
+        while (parent[std::size_t(v)] != v) v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
+        return v;
+    };
+    std::vector<bool> chamber(branches.size(), false);
+    long droppedLoops = 0;
+    for (std::size_t i = 0; i < branches.size(); ++i) {
+        const Branch& br = branches[i];
+        const int u = br.nodes.front(), v = br.nodes.back();
+        if (br.loop() || degree[std::size_t(u)] < 3 || degree[std::size_t(v)] < 3) continue;
+        const double reach =
+            skeleton.nodes[std::size_t(u)].radius + skeleton.nodes[std::size_t(v)].radius + o.voxelSize;
+        if (!(br.length_m < reach)) continue;
+        chamber[i] = true;
+        ++r.chamber_branches;
+        const int fu = find(u), fv = find(v);
+        if (fu == fv)
+            ++droppedLoops;
+        else
+            parent[std::size_t(std::max(fu, fv))] = std::min(fu, fv);
     }
+    r.branches = metrics.branches - r.chamber_branches;
+    r.loops = metrics.loops - droppedLoops;
+
+    // Junctions after merging: degree of a merged junction = Σ degrees − 2 · its chamber stubs.
+    std::vector<long> junctionDegree(skeleton.nodes.size(), 0);
+    for (std::size_t v = 0; v < degree.size(); ++v)
+        if (degree[v] >= 3) junctionDegree[std::size_t(find(int(v)))] += degree[v];
+    for (std::size_t i = 0; i < branches.size(); ++i)
+        if (chamber[i]) junctionDegree[std::size_t(find(branches[i].nodes.front()))] -= 2;
+    long degreeSum = 0;
+    for (std::size_t v = 0; v < degree.size(); ++v)
+        if (degree[v] >= 3 && find(int(v)) == int(v)) {
+            ++r.junctions;
+            degreeSum += junctionDegree[v];
+        }
     if (r.junctions > 0) r.junction_degree_mean = double(degreeSum) / double(r.junctions);
 
-    // Branches: blind ends and width variation.
-    const std::vector<Branch> branches = findBranches(skeleton);
-    if (!branches.empty()) {
+    // Branches (chamber stubs aside): blind ends and width variation.
+    if (r.branches > 0) {
         long blind = 0;
         std::vector<double> widths;
-        for (const Branch& b : branches) {
+        for (std::size_t i = 0; i < branches.size(); ++i) {
+            if (chamber[i]) continue;
+            const Branch& b = branches[i];
             if (degree[std::size_t(b.nodes.front())] == 1 || degree[std::size_t(b.nodes.back())] == 1) ++blind;
             double sum = 0;
             for (int v : b.nodes) sum += skeleton.nodes[std::size_t(v)].radius;
             widths.push_back(sum / double(b.nodes.size()));
         }
-        r.dead_end_share = double(blind) / double(branches.size());
+        r.dead_end_share = double(blind) / double(r.branches);
         if (widths.size() >= 2) {
             const double mean = std::accumulate(widths.begin(), widths.end(), 0.0) / double(widths.size());
             double ss = 0;
@@ -238,6 +274,7 @@ nlohmann::json toJson(const PatternResult& p) {
             {"criteria",
              {{"length_m", p.length_m},
               {"branches", p.branches},
+              {"chamber_branches", p.chamber_branches},
               {"loops", p.loops},
               {"loops_per_km", p.loops_per_km},
               {"loops_per_branch", p.loops_per_branch},

@@ -3,11 +3,17 @@
 /// network maze, anastomotic maze, spongework, ramiform or single passage, with the measured
 /// criteria. Decision rules and their reasoning: docs/geology.md, "Which pattern did I get?".
 ///
-/// Criteria, all from the skeleton (positions in metres, world space, z up):
+/// Criteria, all from the skeleton (positions in metres, world space, z up). A *chamber stub* — a
+/// branch between two junctions shorter than the sum of their radii plus one voxel (a radius is
+/// measured from the node's voxel centre to the wall face, so junction voxels that touch are still
+/// a voxel apart) — lies inside one junction chamber: its two junctions count as one (its loop
+/// too, when it closes one inside the chamber: a pillar), and it counts as no branch. The skeleton
+/// splits a wide junction into such stubs.
 ///  - **loops per km**: independent cycles (edges − nodes + components) per km of centreline;
 ///    **loops per branch**: the same cycles per branch (`findBranches`), the scale-free measure
 ///    the rules use (a grid maze of n × n cells has n² loops and 2n(n + 1) − 4 branches: → 0.5).
-///  - **junction degree**: mean degree of the nodes of degree ≥ 3 (3: a fork or a braid, 4: a
+///  - **junction degree**: mean degree of the junctions (nodes of degree ≥ 3, merged as above) (3: a fork or a braid,
+///  4: a
 ///    crossing of two fissures).
 ///  - **dead-end share**: branches with an end of degree 1 / branches.
 ///  - **orientation**: `h_or` (graph_metrics.h) and the *orthogonal share*: the largest share of
@@ -53,6 +59,8 @@ struct PatternOptions {
     double slabDiameters = 2.0;
     /// A branching network that is not planar and whose width variation reaches this is ramiform. > 0.
     double ramiformWidthCv = 0.6;
+    /// Voxel edge, metres, ≥ 0: added to the two junction radii in the chamber-stub test.
+    double voxelSize = 0.0;
     /// Normal of the bedding, world axes (any length > 0); vertical by default (horizontal beds).
     Vec3d bedNormal{0, 0, 1};
 };
@@ -63,11 +71,12 @@ struct PatternResult {
                           ///< "single passage", or "none" (no branch)
     std::string rule;     ///< the rule that decided, in words
     double length_m = 0;
-    long branches = 0;
-    long loops = 0;
+    long branches = 0;          ///< branches of the skeleton, chamber stubs aside
+    long chamber_branches = 0;  ///< stubs inside a junction chamber, merged into one junction
+    long loops = 0;             ///< independent loops, pillars inside a chamber aside
     double loops_per_km = 0;
     double loops_per_branch = 0;
-    long junctions = 0;                            ///< nodes of degree ≥ 3
+    long junctions = 0;                            ///< nodes of degree ≥ 3, chamber stubs merged
     std::optional<double> junction_degree_mean;    ///< empty without junctions
     long dead_ends = 0;                            ///< nodes of degree 1
     std::optional<double> dead_end_share;          ///< empty without branches

@@ -199,6 +199,27 @@ TEST(Pattern, SingleTubeAndSmallY) {
     EXPECT_EQ(classify(Skeleton{}).pattern, "none");
 }
 
+TEST(Pattern, ChamberStubsMergeTheirJunctions) {
+    // An H: two junctions 1 m apart (radius 1 m each: the stub lies in their chamber), two arms of
+    // 10 m at each: one junction of degree 4 with four blind branches.
+    Skeleton s = makeSkeleton({{0, 0, 0}, {1, 0, 0}, {-5, 8, 0}, {-5, -8, 0}, {6, 8, 0}, {6, -8, 0}},
+                              {{0, 1}, {0, 2}, {0, 3}, {1, 4}, {1, 5}}, 1.0);
+    const PatternResult p = classify(s);
+    EXPECT_EQ(p.chamber_branches, 1);
+    EXPECT_EQ(p.branches, 4);
+    EXPECT_EQ(p.junctions, 1);
+    EXPECT_DOUBLE_EQ(*p.junction_degree_mean, 4.0);
+    EXPECT_DOUBLE_EQ(*p.dead_end_share, 1.0);
+    // Two parallel stubs between the junctions: a pillar in the chamber, its loop dropped.
+    s.nodes.push_back({{0.5, 0.5, 0}, 1.0, 0});
+    s.edges = {{0, 1}, {0, 2}, {0, 3}, {0, 6}, {1, 4}, {1, 5}, {1, 6}};
+    const PatternResult pillar = classify(s);
+    EXPECT_EQ(pillar.chamber_branches, 2);
+    EXPECT_EQ(pillar.loops, 0);
+    EXPECT_EQ(pillar.junctions, 1);
+    EXPECT_DOUBLE_EQ(*pillar.junction_degree_mean, 4.0);
+}
+
 TEST(Pattern, VoxelCylinderIsASinglePassage) {
     Grid3<std::uint8_t> mask(Dims{40, 11, 11}, 0);
     for (int k = 0; k < 11; ++k)
