@@ -7,6 +7,7 @@
 #include "app/cave_maps.h"
 #include "app/checkpoint.h"
 #include "app/report.h"
+#include "app/section_picture.h"
 #include "app/speleo_report.h"
 #include "app/state.h"
 #include "core/timer.h"
@@ -199,7 +200,10 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     const Stopwatch tr;
     const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, rec);
     morpho::writeSkeletonFiles(analysis.skeleton, outDir, dom.voxelSize, dom.dims);
-    if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
+    if (s.output.images) {
+        writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
+        writeSectionsPicture(analysis.sections, s.name, imagesDir);
+    }
     if (s.output.images && !s.fractureFamilies.empty())
         render::writeFracturesPicture(dom, cave.mask, generateFractureNetwork(s.fractureFamilies, dom.dims, s.seed),
                                       dir.file("images/fractures.png").string(), width);

@@ -86,7 +86,7 @@ std::string rebuildReport(const std::string& dirArg) {
     report["grid"] = {s.size[0], s.size[1], s.size[2]};
     report["voxel_size_m"] = s.voxelSize;
     report["seed"] = s.seed;
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"}) report[k] = a[k];
+    for (const char* k : kAnalysisKeys) report[k] = a[k];
     if (a.contains("near_protochannels") && report.contains("stage2") && report["stage2"].is_object())
         report["stage2"]["near_protochannels"] = a["near_protochannels"];
     if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();

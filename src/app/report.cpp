@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/report_html.h"
+#include "app/report_pattern.h"
 #include "app/report_section.h"
 #include "app/state.h"
 #include "core/error.h"
@@ -190,6 +191,10 @@ nlohmann::json analysisJson(const morpho::CaveAnalysis& a) {
     j["skeleton"] = {{"nodes", a.skeleton.nodes.size()}, {"edges", a.skeleton.edges.size()}};
     j["cave_category"] = morpho::caveCategory(a.morphometry);
     if (a.nearProtochannels) j["near_protochannels"] = morpho::toJson(*a.nearProtochannels);
+    j["pattern"] = morpho::toJson(a.pattern);
+    j["cross_sections"] = a.sections.passages.empty() && a.pattern.pattern == "not classified"
+                              ? nlohmann::json(nullptr)
+                              : morpho::toJson(a.sections);
     j["seconds"] = num(a.seconds);
     return j;
 }
@@ -241,7 +246,7 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     if (rec.stage2 && rec.connectedAtStart) j["stage2"]["connected_at_start"] = *rec.connectedAtStart;
     if (rec.stage2 && rec.analysis.is_object() && rec.analysis.contains("near_protochannels"))
         j["stage2"]["near_protochannels"] = rec.analysis["near_protochannels"];
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
+    for (const char* k : kAnalysisKeys)
         j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
     j["mesh"] = rec.mesh;
     if (!rec.speleothems.is_null()) j["speleothems"] = rec.speleothems;
@@ -371,6 +376,7 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
                                                             {"map_plan.png", "plan map"},
                                                             {"map_section.png", "section map"},
                                                             {"map_extended_elevation.png", "extended elevation"},
+                                                            {"sections.png", "representative passage cross-sections"},
                                                             {"zones.png", "stage-1 zones and protochannels"},
                                                             {"pressure.png", "stage-2 pressure"},
                                                             {"flow.png", "stage-2 flow"},
@@ -429,9 +435,10 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
                << (small ? std::string(" (too small)") : inRange(at(gm, key), m)) << " | " << rangeText(m) << " |\n";
         }
     }
+    md << patternMarkdown(r) << crossSectionsMarkdown(r);
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
           "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`, `report.html` (this report with "
-          "a 3D view), `images/map_*` (cave maps).\n";
+          "a 3D view), `images/map_*` (cave maps), `images/sections.png` (cross-sections).\n";
     return md.str();
 }
 

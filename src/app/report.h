@@ -48,8 +48,13 @@ struct RunRecord {
 nlohmann::json jsonNumber(double v);
 
 nlohmann::json meshJson(const mesh::MeshStats& stats);
-/// network, morphometry, graph_metrics, skeleton summary and cave category of an analysis.
+/// network, morphometry, graph_metrics, skeleton summary, cave category, pattern and
+/// cross-sections of an analysis (the keys of `kAnalysisKeys`).
 nlohmann::json analysisJson(const morpho::CaveAnalysis& analysis);
+
+/// The report.json keys that come from the analysis of the cave.
+inline constexpr const char* kAnalysisKeys[] = {"network",       "morphometry", "graph_metrics", "skeleton",
+                                                "cave_category", "pattern",     "cross_sections"};
 
 /// The report.json document (its keys: README.md, "Commands" and the output table).
 nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec);
