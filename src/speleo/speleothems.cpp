@@ -34,7 +34,6 @@ using openvdb::Vec3d;
 constexpr int kHalfWidth = 3;            // band half width, voxels
 constexpr double kShell = 2.0;           // stalactite points lie within this many voxels of the surface
 constexpr double kTipFacing = 0.7071;    // a tip faces down within 45° of vertical
-constexpr double kMinCos = 0.2;          // cos θ floor of the tip's vertical speed
 constexpr double kDripNoiseScale = 1.0;  // metres, feature size of the drip variability
 constexpr std::uint64_t kDripSalt = 0x9e3779b97f4a7c15ull;
 
@@ -188,26 +187,17 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         st.dripFactor = std::exp(o.dripVariability * dripNoise.sample(tx / kDripNoiseScale, ty / kDripNoiseScale,
                                                                       0.5 + tz / kDripNoiseScale));
         const double alpha = o.alpha * st.dripFactor;
-        // Step 2: Short's law outside the tip; the ring's mean vertical speed for step 3.
-        double ringSum = 0;
-        long ringCount = 0;
+        // Steps 2 and 3: Short's law with r·sin θ floored at the tip radius ε, the tip included.
+        // Where r·sin θ < ε (the tip and any flat part around it) the speed is the law's at ε, so
+        // the lowest point (θ = 0) moves down at c = α·l_Q·(l_Q/ε)^(1/3) and no wall point is
+        // faster: the shape tends to the steady profile translating at c, r·sin θ·cos³θ = ε
+        // (Short's platonic profile with l_Q replaced by ε; docs/speleothems.md).
         for (std::size_t k = 0; k < members.size(); ++k) {
-            if (r[k] <= rTip) continue;
             const Sample& p = s[members[k]];
             const double sinT = std::hypot(double(p.nAir[0]), double(p.nAir[1]));
-            const double v = shortSpeed(alpha, o.lQ, std::max(r[k] * sinT, rTip));
-            a.speed[members[k]] = v;
-            if (r[k] <= 2 * rTip) {
-                ringSum += v / std::max(double(-p.nAir[2]), kMinCos);
-                ++ringCount;
-            }
+            a.speed[members[k]] = shortSpeed(alpha, o.lQ, std::max(r[k] * sinT, rTip));
         }
-        // Never faster than Short's tip speed α·l_Q (the lengthening rate of his asymptotic shape).
-        const double w =
-            std::min(ringCount > 0 ? ringSum / double(ringCount) : shortSpeed(alpha, o.lQ, rTip), alpha * o.lQ);
-        for (std::size_t k = 0; k < members.size(); ++k)
-            if (r[k] <= rTip) a.speed[members[k]] = w * std::max(0.0, double(-s[members[k]].nAir[2]));
-        st.tipSpeed = w;
+        st.tipSpeed = shortSpeed(alpha, o.lQ, rTip);
 
         // Step 4: the drip falls to the first rock below the tip.
         for (double z = tz - h; z > tz - 1000.0; z -= 0.5 * h) {
