@@ -271,17 +271,51 @@ TEST(Speleothems, MeshStaysClosedAndManifoldAfterGrowth) {
     EXPECT_GT(f.distance({0, 0, -kZ + 0.003}), floorBefore);
 }
 
-TEST(Speleothems, NeighbouringStalactitesGrowTogether) {
-    // Two cones 28 mm apart: their facing walls close in on the air between them.
-    DecorationField f = room({cone(0.012, 0.03, -0.014, 0), cone(0.012, 0.03, 0.014, 0)});
+/// Connected pieces (4-connected) of rock in the horizontal slice at height z, sampled every
+/// half voxel, away from the room's walls.
+int rockPiecesAt(const DecorationField& f, double z) {
+    const double step = 0.5 * kH, half = kL - 2 * kH;
+    const int n = int(2 * half / step) + 1;
+    std::vector<int> rock(std::size_t(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            rock[std::size_t(j) * n + i] = f.distance({-half + i * step, -half + j * step, z}) >= 0;
+    int pieces = 0;
+    std::vector<int> stack;
+    for (std::size_t start = 0; start < rock.size(); ++start) {
+        if (rock[start] != 1) continue;
+        ++pieces;
+        rock[start] = 2;
+        stack.assign(1, int(start));
+        while (!stack.empty()) {
+            const int q = stack.back(), i = q % n, j = q / n;
+            stack.pop_back();
+            const int next[4][2] = {{i + 1, j}, {i - 1, j}, {i, j + 1}, {i, j - 1}};
+            for (const auto& c : next) {
+                if (c[0] < 0 || c[1] < 0 || c[0] >= n || c[1] >= n) continue;
+                int& r = rock[std::size_t(c[1]) * n + c[0]];
+                if (r == 1) r = 2, stack.push_back(c[1] * n + c[0]);
+            }
+        }
+    }
+    return pieces;
+}
+
+TEST(Speleothems, CloseStalactitesMergeFarOnesStayApart) {
+    // Four cones (radius 12 mm, 30 mm long): a pair 20 mm apart (axes), whose walls 10 mm below
+    // the ceiling are 4 mm apart, and two more 40 mm from every other (gaps there of 24 mm).
+    DecorationField f = room({cone(0.012, 0.03, -0.01, -0.02), cone(0.012, 0.03, 0.01, -0.02),
+                              cone(0.012, 0.03, -0.02, 0.02), cone(0.012, 0.03, 0.02, 0.02)});
     SpeleothemOptions o = testOptions();
-    EXPECT_EQ(findStalactites(f, o).size(), 2u);
-    const Vec3d gap{0, 0, -0.008};
-    const double before = -f.distance(gap);  // air between them, 8 mm below the ceiling
-    EXPECT_GT(before, 0.004);
-    o.years = 900;
+    EXPECT_EQ(findStalactites(f, o).size(), 4u);
+    const double z = -0.010;
+    EXPECT_EQ(rockPiecesAt(f, z), 4);
+    o.years = 300;
     grow(f, o);
-    EXPECT_LT(-f.distance(gap), 0.25 * before);  // the gap closed to within a quarter
+    EXPECT_EQ(rockPiecesAt(f, z), 3);             // the close pair joined
+    EXPECT_GE(f.distance({0, -0.02, z}), 0.0);    // rock between them now
+    EXPECT_LT(f.distance({0, 0.02, z}), -kH);     // the far pair: still air between them
+    EXPECT_LT(f.distance({-0.02, 0.0, z}), -kH);  // and between the pairs
 }
 
 TEST(Speleothems, RandomCeilingGrowsFromItsLocalMinima) {
