@@ -444,6 +444,40 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
     return res;
 }
 
+void measureGrowth(const DecorationField& original, std::vector<Stalactite>& stalactites) {
+    CAVESIM_CHECK(original.impl && original.impl->grid, "an empty decoration field");
+    const FloatGrid& g = *original.impl->grid;
+    const double h = g.voxelSize()[0];
+    const double band = kHalfWidth * h;
+    openvdb::tools::GridSampler<FloatGrid, openvdb::tools::BoxSampler> sampler(g);
+    const auto d = [&](const Stalactite& st, double z) { return sampler.wsSample(Vec3d(st.tip[0], st.tip[1], z)); };
+    for (Stalactite& st : stalactites) {
+        st.grownLength = 0;
+        double lo = st.tip[2];
+        if (d(st, lo) >= 0) continue;  // the tip is original rock
+        // Up to the first original rock, leaping through deep air by the band's width.
+        double hi = lo;
+        bool found = false;
+        for (int k = 0; k < 1000000 && !found; ++k) {
+            const double v = d(st, hi);
+            if (v >= 0) {
+                found = true;
+                break;
+            }
+            lo = hi;
+            hi += v <= -0.999 * band ? band - h : 0.5 * h;
+        }
+        if (!found) continue;
+        for (int i = 0; i < 40; ++i) {
+            const double m = 0.5 * (lo + hi);
+            (d(st, m) >= 0 ? hi : lo) = m;
+        }
+        st.grownLength = 0.5 * (lo + hi) - st.tip[2];
+    }
+    std::stable_sort(stalactites.begin(), stalactites.end(),
+                     [](const Stalactite& x, const Stalactite& y) { return x.grownLength > y.grownLength; });
+}
+
 mesh::TriangleMesh meshField(const DecorationField& field) {
     CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
     return mesh::detail::meshLevelSet(*field.impl->grid, 0.0, 0.0);

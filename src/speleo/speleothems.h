@@ -83,6 +83,7 @@ void addCeilingRoughness(DecorationField& field, double amplitude, double scale,
 struct Stalactite {
     Vec3d tip{0, 0, 0};         ///< lowest surface point, metres
     double length = 0;          ///< tip to the highest point of its convex patch, metres
+    double grownLength = 0;     ///< original ceiling straight above the tip down to the tip, metres (measureGrowth)
     double radius = 0;          ///< largest horizontal distance of its patch from the axis, metres
     double tipSpeed = 0;        ///< downward speed of the fitted tip, m/yr
     double dripFactor = 1;      ///< α multiplier of its drip site
@@ -121,6 +122,12 @@ struct GrowthResult {
 /// @throw InputError-free: options are validated by the registry; InternalError on a bad field
 GrowthResult grow(DecorationField& field, const SpeleothemOptions& options, const std::vector<double>& frameYears = {},
                   const GrowthCallback& atFrame = {});
+
+/// Sets `grownLength` of each stalactite: the vertical distance from its tip up to the surface of
+/// `original` (the field before growth) on the same vertical, i.e. the length of grown material
+/// below the original ceiling; 0 when the tip lies in original rock (nothing grew there). Then
+/// orders them by it (longest first, then by the previous order).
+void measureGrowth(const DecorationField& original, std::vector<Stalactite>& stalactites);
 
 /// The surface as a closed triangle mesh (wound outward, out of the cave), optionally only the
 /// part inside the box [lo, hi] (metres; the cut is closed by the box faces).

@@ -1,10 +1,13 @@
 // A run with [speleothems] on: the decorated mesh, the growth pictures and the report section.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "app/speleo_report.h"
 #include "app_test_util.h"
 #include "sim/scenario_io.h"
 
@@ -48,4 +51,44 @@ TEST(AppSpeleothems, RunWritesTheDecoratedCaveItsPicturesAndItsReport) {
 TEST(AppSpeleothems, OffByDefault) {
     Scenario s;
     EXPECT_FALSE(s.speleothems.enabled);
+}
+
+TEST(AppSpeleothems, ReportLengthIsTheGrownMaterialBelowTheOriginalCeiling) {
+    // A cone 30 mm long, 12 mm in radius, hanging from a flat ceiling, on a 2 mm level set, grown
+    // 400 years with the natural parameters: its tip moves down at c = α·l_Q·(l_Q/ε)^(1/3)
+    // (ε = two voxels), so the grown length is c·400 yr; the cone itself (30 mm) is not counted.
+    constexpr double kH = 0.002, kR = 0.012, kHeight = 0.03, kYears = 400;
+    const double sinA = kR / std::hypot(kR, kHeight), cosA = kHeight / std::hypot(kR, kHeight);
+    speleo::DecorationField f =
+        speleo::fieldFromFunction({-0.04, -0.04, -0.08}, {0.04, 0.04, 0.01}, kH, [&](const Vec3d& x) {
+            // Signed distance, > 0 in rock: the half space z ≥ 0 united with the cone (apex at
+            // z = −H, opening up); the room's walls and floor 8 cm away.
+            const double rho = std::hypot(x[0], x[1]), up = x[2] + kHeight;
+            const double cone = up * sinA - rho * cosA < 0 && up * cosA + rho * sinA < 0
+                                    ? -std::hypot(rho, up)     // below the apex: distance to it
+                                    : up * sinA - rho * cosA;  // to the cone's side
+            const double walls = std::max({std::abs(x[0]) - 0.035, std::abs(x[1]) - 0.035, -0.07 - x[2]});
+            return std::max(std::max(x[2], cone), walls);
+        });
+    SpeleothemOptions o;
+    o.enabled = true;
+    o.voxelSize = kH;
+    o.convexity = 20.0;
+    o.minSize = 0.005;
+    o.roughness = 0;
+    o.dripVariability = 0;
+    o.stalagmites = false;
+    o.years = kYears;
+    const speleo::DecorationField original = f;
+    speleo::DecorationSummary sum;
+    sum.voxelSize = kH;
+    sum.years = kYears;
+    sum.stalactites = speleo::grow(f, o).stalactites;
+    speleo::measureGrowth(original, sum.stalactites);
+    const nlohmann::json j = app::speleothemsJson(sum);
+    const double c = o.alpha * o.lQ * std::cbrt(o.lQ / (2 * kH));  // m/yr
+    ASSERT_EQ(j["stalactites"].get<long>(), 1);
+    EXPECT_NEAR(j["largest"][0]["length_m"].get<double>(), c * kYears, kH);  // 11.7 mm
+    EXPECT_NEAR(j["longest_m"].get<double>(), c * kYears, kH);
+    EXPECT_NEAR(j["largest"][0]["tip_m"][2].get<double>(), -kHeight - c * kYears, kH);
 }

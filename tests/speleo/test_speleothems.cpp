@@ -150,8 +150,14 @@ TEST(Speleothems, WaterFilledCaveGrowsNothing) {
     o.drained = false;
     o.years = 100;
     const double before = surfaceOnAxis(f, 0, 0);
+    const DecorationField original = f;
     grow(f, o);
     EXPECT_EQ(surfaceOnAxis(f, 0, 0), before);
+    // Nothing grew: the cone is a convex patch, not a speleothem.
+    std::vector<Stalactite> st = findStalactites(f, testOptions());
+    ASSERT_EQ(st.size(), 1u);
+    measureGrowth(original, st);
+    EXPECT_EQ(st[0].grownLength, 0.0);
 }
 
 /// Tip descent of a protuberance over `years`, mm/yr.
