@@ -41,6 +41,10 @@ TEST(AppSpeleothems, RunWritesTheDecoratedCaveItsPicturesAndItsReport) {
     EXPECT_EQ(j["years"], 2000.0);
     EXPECT_TRUE(j["mesh"]["closed"].get<bool>());
     EXPECT_TRUE(j["mesh"]["manifold"].get<bool>());
+    for (const char* f : {"cave_decorated.obj", "cave_decorated.ply", "cave_decorated.glb"}) {
+        ASSERT_TRUE(r.report["files"].contains(f)) << f;  // fingerprinted beside the state files
+        EXPECT_EQ(r.report["files"][f]["bytes"].get<std::uint64_t>(), fs::file_size(out / f)) << f;
+    }
     std::ifstream md(out / "report.md");
     std::stringstream text;
     text << md.rdbuf();
