@@ -195,9 +195,10 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         for (std::size_t k = 0; k < members.size(); ++k) {
             const Sample& p = s[members[k]];
             const double sinT = std::hypot(double(p.nAir[0]), double(p.nAir[1]));
-            a.speed[members[k]] = shortSpeed(alpha, o.lQ, std::max(r[k] * sinT, rTip));
+            a.speed[members[k]] = r[k] <= rTip ? alpha * o.lQ * std::max(0.0, double(-p.nAir[2]))
+                                               : shortSpeed(alpha, o.lQ, std::max(r[k] * sinT, rTip));
         }
-        st.tipSpeed = shortSpeed(alpha, o.lQ, rTip);
+        st.tipSpeed = alpha * o.lQ;
 
         // Step 4: the drip falls to the first rock below the tip.
         for (double z = tz - h; z > tz - 1000.0; z -= 0.5 * h) {

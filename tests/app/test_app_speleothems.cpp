@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -59,8 +60,8 @@ TEST(AppSpeleothems, OffByDefault) {
 
 TEST(AppSpeleothems, ReportLengthIsTheGrownMaterialBelowTheOriginalCeiling) {
     // A cone 30 mm long, 12 mm in radius, hanging from a flat ceiling, on a 2 mm level set, grown
-    // 400 years with the natural parameters: its tip moves down at c = α·l_Q·(l_Q/ε)^(1/3)
-    // (ε = two voxels), so the grown length is c·400 yr; the cone itself (30 mm) is not counted.
+    // 400 years with the natural parameters: its tip moves down at Short's c = α·l_Q = 0.1 mm/yr,
+    // so the grown length is c·400 yr; the cone itself (30 mm) is not counted.
     constexpr double kH = 0.002, kR = 0.012, kHeight = 0.03, kYears = 400;
     const double sinA = kR / std::hypot(kR, kHeight), cosA = kHeight / std::hypot(kR, kHeight);
     speleo::DecorationField f =
@@ -90,9 +91,12 @@ TEST(AppSpeleothems, ReportLengthIsTheGrownMaterialBelowTheOriginalCeiling) {
     sum.stalactites = speleo::grow(f, o).stalactites;
     speleo::measureGrowth(original, sum.stalactites);
     const nlohmann::json j = app::speleothemsJson(sum);
-    const double c = o.alpha * o.lQ * std::cbrt(o.lQ / (2 * kH));  // m/yr
+    const double c = o.alpha * o.lQ;  // m/yr, Short's tip speed
     ASSERT_EQ(j["stalactites"].get<long>(), 1);
-    EXPECT_NEAR(j["largest"][0]["length_m"].get<double>(), c * kYears, kH);  // 11.7 mm
-    EXPECT_NEAR(j["longest_m"].get<double>(), c * kYears, kH);
-    EXPECT_NEAR(j["largest"][0]["tip_m"][2].get<double>(), -kHeight - c * kYears, kH);
+    const double length = j["largest"][0]["length_m"].get<double>(), tipZ = j["largest"][0]["tip_m"][2].get<double>();
+    std::printf("grown length %.2f mm, hand-computed c·T %.2f mm, tip z %.2f mm\n", length * 1e3, c * kYears * 1e3,
+                tipZ * 1e3);
+    EXPECT_NEAR(length, -kHeight - tipZ, 0.25 * kH);     // from the original apex down to the tip
+    EXPECT_NEAR(length, c * kYears, 0.15 * c * kYears);  // 40 mm (a sharp apex lags ~10 %)
+    EXPECT_EQ(j["longest_m"].get<double>(), length);
 }

@@ -171,12 +171,12 @@ double tipRate(const Protuberance& p, double years) {
 }
 
 TEST(Speleothems, ConesAndParaboloidsLengthenAtTheLawsTipSpeed) {
-    // Natural parameters (l_Q = 0.1 mm, α = 1/yr) on 2 mm voxels: the tip radius ε = 4 mm floors
-    // r·sin θ, so every tip moves down at c = α·l_Q·(l_Q/ε)^(1/3) ≈ 0.029 mm/yr whatever the
-    // protuberance's width (Short et al.: the tip speed does not depend on the shape; the paper's
-    // narrow-faster observation is not reproduced, docs/speleothems.md).
+    // Natural parameters (l_Q = 0.1 mm, α = 1/yr) on 2 mm voxels: every tip moves down at Short's
+    // c = α·l_Q = 0.1 mm/yr whatever the protuberance's width (Short et al.: the tip speed of the
+    // law does not depend on the shape; the paper's narrow-faster observation, which its authors
+    // trace to their tip remeshing, is not reproduced: docs/speleothems.md).
     const SpeleothemOptions o = testOptions();
-    const double c = o.alpha * o.lQ * std::cbrt(o.lQ / (2 * kH)) * 1000.0;
+    const double c = o.alpha * o.lQ * 1000.0;
     for (const Protuberance& p :
          {cone(0.012, 0.03), cone(0.03, 0.015), paraboloid(0.012, 0.03), paraboloid(0.03, 0.015)}) {
         const double rate = tipRate(p, 400);
@@ -184,16 +184,16 @@ TEST(Speleothems, ConesAndParaboloidsLengthenAtTheLawsTipSpeed) {
         // Natural stalactites lengthen at ~0.1 mm/yr (Short et al. 2005): within a factor of ten.
         EXPECT_GT(rate, 0.01);
         EXPECT_LT(rate, 1.0);
-        EXPECT_NEAR(rate, c, 0.1 * c);
+        EXPECT_NEAR(rate, c, 0.15 * c);
     }
 }
 
-/// The steady profile of the law, translating down at c = α·l_Q·(l_Q/ε)^(1/3) (ε the tip radius,
-/// r·sin θ floored at it): c·cos θ = α·l_Q·(l_Q/(r·sin θ))^(1/3) gives r·sin θ·cos³θ = ε, Short's
-/// platonic relation with l_Q replaced by ε. In units of ε, with p = tan θ = dζ/dρ:
-/// ρ·p/(1 + p²)² = 1, whose steep branch (p ≥ 1/√3) exists for ρ ≥ ρ_min = 16/(3√3); inside
-/// ρ_min only θ = 0 translates at c, a flat tip. Far up ζ → (3/4)·ρ^(4/3), Short's asymptote.
-/// Returns the radius (metres) at height ζ (metres) above the tip.
+/// Short's platonic profile, the steady shape of the law translating down at the tip speed
+/// c = α·l_Q: c·cos θ = α·l_Q·(l_Q/(r·sin θ))^(1/3) gives r·sin θ·cos³θ = l_Q. In units of l_Q,
+/// with p = tan θ = dζ/dρ: ρ·p/(1 + p²)² = 1, whose steep branch (p ≥ 1/√3) exists for
+/// ρ ≥ ρ_min = 16/(3√3) ≈ 3.08; inside ρ_min, where the law's speed is floored at α·l_Q, only
+/// θ = 0 translates at c: a flat tip. Far up ζ → (3/4)·ρ^(4/3), Short's asymptote.
+/// Returns the radius (metres) at height ζ (metres) above the tip; `eps` is l_Q (metres).
 double asymptoticRadius(double zeta, double eps) {
     const double rhoMin = 16.0 / (3.0 * std::sqrt(3.0));
     const auto slope = [](double rho) {  // steep root of p/(1+p²)² = 1/ρ
@@ -231,8 +231,9 @@ double profileError(const DecorationField& f, double eps, double zLo, double zHi
 }
 
 TEST(Speleothems, ConeAndParaboloidConvergeToTheAsymptoticProfile) {
-    // The law is scale free in units of l_Q and 1/α; here l_Q = ε = one voxel (2 mm) so the tip's
-    // own scale (ρ_min ≈ 3 ε) is resolved, and α = 0.05/yr keeps c = α·l_Q = 0.1 mm/yr.
+    // The law is scale free in units of l_Q and 1/α; here l_Q = the tip radius = one voxel (2 mm)
+    // so the profile's own tip scale (ρ_min ≈ 3 l_Q) is resolved, and α = 0.05/yr keeps
+    // c = α·l_Q = 0.1 mm/yr.
     constexpr double kDepth = 0.13;
     const double eps = kH;
     for (const Protuberance& p : {cone(0.012, 0.03), paraboloid(0.012, 0.03)}) {
@@ -252,8 +253,8 @@ TEST(Speleothems, ConeAndParaboloidConvergeToTheAsymptoticProfile) {
         std::printf("descent %.1f mm in 500 yr; profile error (mm):", descent * 1000);
         for (double e : err) std::printf(" %.2f", e * 1000);
         std::printf("\n");
-        // The tip moves at c: 50 mm in 500 years (one voxel of slack for the level set).
-        EXPECT_NEAR(descent, 0.05, 2 * kH);
+        // The tip moves at c: 50 mm in 500 years (the level set rounds a cone's sharp apex: ~10 % less).
+        EXPECT_NEAR(descent, 0.05, 0.15 * 0.05);
         EXPECT_LT(err.back(), 0.7 * err.front());  // a drop of at least 30 %
         for (std::size_t k = 1; k < err.size(); ++k)
             EXPECT_LT(err[k], err[k - 1] + 0.5 * kH);  // falls, to within a quarter voxel per checkpoint
