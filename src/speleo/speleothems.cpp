@@ -187,11 +187,12 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         st.dripFactor = std::exp(o.dripVariability * dripNoise.sample(tx / kDripNoiseScale, ty / kDripNoiseScale,
                                                                       0.5 + tz / kDripNoiseScale));
         const double alpha = o.alpha * st.dripFactor;
-        // Steps 2 and 3: Short's law with r·sin θ floored at the tip radius ε, the tip included.
-        // Where r·sin θ < ε (the tip and any flat part around it) the speed is the law's at ε, so
-        // the lowest point (θ = 0) moves down at c = α·l_Q·(l_Q/ε)^(1/3) and no wall point is
-        // faster: the shape tends to the steady profile translating at c, r·sin θ·cos³θ = ε
-        // (Short's platonic profile with l_Q replaced by ε; docs/speleothems.md).
+        // Steps 2 and 3. Within the tip radius ε of the axis the tip translates down at Short's
+        // tip speed c = α·l_Q (normal speed c·cos θ), fixed, never slaved to its neighbours (a tip
+        // that follows its ring has no speed of its own and runs away). Outside, Short's law with
+        // r·sin θ floored at ε, so no wall point is faster than the law's value at ε. The shape
+        // tends to the profile translating at c: r·sin θ·cos³θ = l_Q where r·sin θ ≥ ε (Short's
+        // platonic profile), cos θ = (l_Q/ε)^(1/3) below (docs/speleothems.md).
         for (std::size_t k = 0; k < members.size(); ++k) {
             const Sample& p = s[members[k]];
             const double sinT = std::hypot(double(p.nAir[0]), double(p.nAir[1]));
