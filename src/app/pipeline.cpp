@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
 #include "app/cave_maps.h"
 #include "app/checkpoint.h"
@@ -192,8 +193,15 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         mesh::writeCavePictures(cave, imagesDir, width);
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
-    if (s.speleothems.enabled)
+    if (s.speleothems.enabled) {
         rec.speleothems = speleothemsJson(speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images));
+        // The decorated meshes are recorded by their bytes beside the state files (an empty cave
+        // writes none).
+        for (const char* f : {"cave_decorated.obj", "cave_decorated.ply", "cave_decorated.glb"}) {
+            const std::string path = dir.file(f).string();
+            if (std::filesystem::is_regular_file(path)) rec.files[f] = fileFingerprint(path);
+        }
+    }
     rec.timing.mesh = tm.seconds();
 
     reportProgress(progress, "report", 0, 1);

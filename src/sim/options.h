@@ -138,7 +138,7 @@ struct SpeleothemOptions {
     double voxelSize = 0.1;          ///< edge of the decoration level set's voxels, metres
     double convexity = 2.0;          ///< least mean curvature of a stalactite's surface, 1/m
     double minSize = 0.2;            ///< least horizontal radius of a convex ceiling patch, metres
-    double tipRadius = 0.0;          ///< radius of the fitted tip, metres; 0 = two voxels
+    double tipRadius = 0.0;          ///< tip radius ε, metres; 0 = two voxels
     double roughness = 0.15;         ///< amplitude of the ceiling relief added before growth, metres
     double roughnessScale = 1.0;     ///< feature size of that relief, metres
     double dripVariability = 0.3;    ///< relative spread of α between drip sites

@@ -792,8 +792,8 @@ std::vector<ParamSection> makeRegistry() {
                  "least horizontal radius of a convex ceiling patch around its lowest point for it to grow")
                 .unitIs("m"),
             real("tip_radius", &SpeleothemOptions::tipRadius, rng(0, 10),
-                 "radius around a stalactite's axis inside which the tip is fitted (moved down with the ring "
-                 "around it) instead of the singular law; 0 = two voxels")
+                 "radius ε around a stalactite's axis inside which the tip translates down at Short's tip speed "
+                 "α·l_Q instead of the singular law; outside, r·sin θ is floored at it; 0 = two voxels")
                 .unitIs("m")
                 .defaultShown("0 (2 voxels)"),
             real("roughness", &SpeleothemOptions::roughness, rng(0, 10),
