@@ -82,6 +82,11 @@ struct ParamSection {
     std::string path;            ///< dotted table path; "" for the top level
     bool isArray = false;        ///< a table of arrays ([[path]]): records of a vector
     std::size_t maxEntries = 0;  ///< table of arrays: at most this many entries
+    /// A plain table left out of the effective scenario when every key holds its default (a table
+    /// added later, so scenarios without it write the same text as before).
+    bool omitAtDefaults = false;
+    /// A table of arrays that, when written, must have at least one entry (`phase = []` is refused).
+    bool nonEmpty = false;
     /// When set, the entry limit is checked entry by entry and the message gives this reason.
     std::string limitReason;
     std::string heading;  ///< reference heading after the table name
@@ -111,7 +116,7 @@ struct ParamSection {
 };
 
 /// Every section, in file order: top level, domain, rock, rock.noise, rock.sphere, rock.plane,
-/// rock.channel, source, sink, stage1, stage2, output, site, site.horizon.
+/// rock.channel, source, sink, stage1, stage2, hydrology, phase, output, site, site.horizon, speleothems.
 const std::vector<ParamSection>& scenarioParameters();
 
 /// The section at `path` ("stage2", "rock.sphere"); throws RuntimeError when there is none.
