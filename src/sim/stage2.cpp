@@ -1009,7 +1009,17 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                             for (std::size_t v : dom.sinkVoxels[si]) seeds.push_back({v, 0.0, 0});
                     pressure.solve(d, rate, seeds, res.pressureCap, fastmarch::Stencil::kAvalanche26);
                     res.pressureSeconds += tp.seconds();
-                    reachFromSinks(dom, st);
+                    // What is joined to an active sink (only those are searched from).
+                    std::fill(st.reached.begin(), st.reached.end(), false);
+                    std::deque<std::size_t> queue;
+                    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+                        if (listed(ph.sinks, si))
+                            for (std::size_t v : dom.sinkVoxels[si])
+                                if (!st.reached[v]) {
+                                    st.reached[v] = true;
+                                    queue.push_back(v);
+                                }
+                    spreadThrough(dom, kConducting, queue, st.reached);
                     std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
                 }
                 std::fill(st.waterChanged.begin(), st.waterChanged.end(), std::uint8_t(1));
