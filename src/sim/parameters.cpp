@@ -660,6 +660,7 @@ std::vector<ParamSection> makeRegistry() {
     phase.setLine = [](void* r, int line) { static_cast<Stage2Phase*>(r)->line = line; };
     phase.exampleCommented = true;
     phase.nonEmpty = true;
+    phase.exampleNote = "optional: phases replace [stage2] iterations; remove the '# '";
 
     r.push_back(table<OutputOptions>(
         "output", output, "",
@@ -1008,7 +1009,10 @@ std::string exampleScenarioToml() {
         const std::string off = s.exampleCommented ? "# " : "";
         if (!s.path.empty())
             out << off << s.header() << (s.isArray ? "  # one entry of possibly many" : "")
-                << (s.exampleCommented ? " (it needs its files: remove the '# ')" : "") << "\n";
+                << (!s.exampleCommented     ? ""
+                    : s.exampleNote.empty() ? " (it needs its files: remove the '# ')"
+                                            : " (" + s.exampleNote + ")")
+                << "\n";
         for (const Param& p : s.params) {
             out << "# " << p.description << " (unit: " << p.unit << "; range: " << rangeText(p) << ")\n";
             if (p.type == ParamType::kVoxelBox) {

@@ -95,6 +95,8 @@ struct ParamSection {
     /// The example scenario shows this section commented out (its entries name files that the
     /// example does not ship).
     bool exampleCommented = false;
+    /// Why it is commented out (shown after the header); empty = it needs files the example lacks.
+    std::string exampleNote;
     std::vector<Param> params;
     /// The records: one for a table, the vector's elements for a table of arrays.
     std::function<std::size_t(const Scenario&)> count;
