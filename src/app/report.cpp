@@ -84,6 +84,7 @@ nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
             {{"first_iteration", p.firstIteration},
              {"iterations", p.iterations},
              {"water_table", p.waterTable >= 0 ? nlohmann::json(num(p.waterTable)) : nlohmann::json(nullptr)},
+             {"water_table_from_site", p.fromSite},
              {"sinks", p.sinks},
              {"sources", p.sources},
              {"breakthrough_iteration",

@@ -115,6 +115,8 @@ struct Hydrology {
     /// fraction of the field pressure added to a vadose voxel's gravitational potential: how strongly
     /// vadose water drifts towards the sinks along a floor (0 = straight down only)
     double lateral = 0.1;
+    /// the table is `[site] water_table` (sampled on the block's columns) instead of a plane
+    bool fromSite = false;
 };
 
 /// One base-level phase of stage 2 (`[[phase]]`): iterations run with its own water table and

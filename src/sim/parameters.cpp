@@ -623,6 +623,10 @@ std::vector<ParamSection> makeRegistry() {
                  "fraction of the field pressure added to a vadose voxel's gravitational potential: how strongly "
                  "vadose water drifts towards the sinks along a passage floor (0 = straight down only); below 1, "
                  "so down is always downhill"),
+            boolean("from_site", &Hydrology::fromSite,
+                    "the water table is the surface of `[site] water_table` (needs it; then leave `water_table`, "
+                    "`dip` and `dip_direction` at their defaults); a phase's `water_table` still replaces it by a "
+                    "level for that phase"),
         }));
     hydro.omitAtDefaults = true;
     hydro.prose =
@@ -715,7 +719,8 @@ std::vector<ParamSection> makeRegistry() {
             path("base_of_limestone", &SiteSettings::baseOfLimestone,
                  "surface (GeoTIFF, or XYZ points `x y z` per line): voxels whose centre lies below it are insoluble"),
             path("water_table", &SiteSettings::waterTable,
-                 "surface (GeoTIFF or XYZ points): read, checked and kept with the site (report); does not yet "
+                 "surface (GeoTIFF or XYZ points): read, checked and kept with the site (report); the water table of "
+                 "stage 2 with `[hydrology] from_site = true`, else it does not "
                  "change the simulation"),
             real("sinkhole_pressure", &SiteSettings::sinkholePressure, rng(0, 1e6, "(]"),
                  "pressure of a sinkhole whose CSV row gives none (as [[source]] `pressure`)")

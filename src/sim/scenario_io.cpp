@@ -577,6 +577,15 @@ void validateHydrology(const Scenario& s) {
         throw InputError(os.str());
     };
     checkLevel(s.stage2.hydrology.waterTable, &s.stage2.hydrology.waterTable, 0, "");
+    const Hydrology& h = s.stage2.hydrology;
+    if (h.fromSite && s.site.waterTable.empty())
+        throw InputError(s.path + ": key '" + scenarioKey(s, &h.fromSite) + "' = true needs a surface in '" +
+                         scenarioKey(s, &s.site.waterTable) + "'");
+    if (h.fromSite && (h.waterTable != -1.0 || h.dip != 0.0))
+        throw InputError(s.path + ": key '" + scenarioKey(s, &h.fromSite) +
+                         "' = true takes the table from the site: "
+                         "leave '" +
+                         scenarioKey(s, &h.waterTable) + "' at -1 and '" + scenarioKey(s, &h.dip) + "' at 0");
     const auto& phases = s.stage2.phases;
     for (std::size_t n = 0; n < phases.size(); ++n) {
         const Stage2Phase& ph = phases[n];

@@ -933,7 +933,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
             {ph.iterations, ph.waterTable >= 0 ? ph.waterTable : g.hydrology.waterTable, ph.sinks, ph.sources, true});
     if (plan.empty()) plan.push_back({g.iterations, g.hydrology.waterTable, {}, {}, false});
     int totalIterations = 0;
-    bool gravity = false;
+    // A site's surface stands for `[hydrology]`'s level where a phase gives none.
+    const bool siteTable = g.hydrology.fromSite && !dom.siteWaterTable.empty();
+    bool gravity = siteTable;
     for (const PhasePlan& ph : plan) {
         totalIterations += ph.iterations;
         gravity = gravity || ph.waterTable >= 0;
@@ -979,10 +981,12 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     int it = 0;
     for (std::size_t phaseIndex = 0; phaseIndex < plan.size(); ++phaseIndex) {
         const PhasePlan& ph = plan[phaseIndex];
-        const bool hasTable = ph.waterTable >= 0;
+        const bool fromSite = siteTable && ph.waterTable < 0;  // this phase's table is the site's surface
+        const bool hasTable = ph.waterTable >= 0 || fromSite;
         Stage2PhaseRecord prec;
         prec.firstIteration = it + 1;
-        prec.waterTable = hasTable ? ph.waterTable : -1.0;
+        prec.waterTable = ph.waterTable >= 0 ? ph.waterTable : -1.0;
+        prec.fromSite = fromSite;
         prec.sinks = activeList(ph.sinks, dom.sinkVoxels.size());
         prec.sources = activeList(ph.sources, dom.sourceVoxels.size());
         prec.channelVoxelsStart = st.channelVoxels;
@@ -1025,7 +1029,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 std::fill(st.waterChanged.begin(), st.waterChanged.end(), std::uint8_t(1));
             }
             if (gravity) {
-                table = waterTableColumns(d, g.hydrology, hasTable ? ph.waterTable : double(d.nz));
+                table = fromSite ? dom.siteWaterTable
+                                 : waterTableColumns(d, g.hydrology, hasTable ? ph.waterTable : double(d.nz));
                 gravityPotential(pressure.value(), table, res.pressureCap, g, st, true, potential);
             }
         }

@@ -57,9 +57,11 @@ struct Stage2Record {
 /// Totals of one base-level phase (`[[phase]]`, or the single phase of a run with a water table).
 /// Volumes in voxels (the report converts them to m³).
 struct Stage2PhaseRecord {
-    int firstIteration = 0;                    ///< the phase's first iteration (1-based, run order)
-    int iterations = 0;                        ///< iterations the phase ran
-    double waterTable = -1;                    ///< voxels: the table's height at the centre column; −1 none
+    int firstIteration = 0;  ///< the phase's first iteration (1-based, run order)
+    int iterations = 0;      ///< iterations the phase ran
+    /// voxels: the table's height at the centre column; −1 none (also for a site's surface: `fromSite`)
+    double waterTable = -1;
+    bool fromSite = false;                     ///< the table was `[site] water_table`
     std::vector<int> sinks, sources;           ///< active terminals, 1-based scenario order
     std::optional<int> breakthroughIteration;  ///< first iteration of the phase with a source joined to an active sink
     long channelVoxelsStart = 0;               ///< channel voxels when the phase began

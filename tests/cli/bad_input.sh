@@ -54,6 +54,9 @@ stderr_has "phase.water_table' = -3"
 { cat good.toml; printf '[[phase]]\niterations = 10\nwater_table = 30\n'; } > phase_high.toml
 expect_exit 2 "phase water table above the block" -- "$CAVESIM" run phase_high.toml --out o8
 stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
+{ cat good.toml; printf '[hydrology]\nfrom_site = true\n'; } > table_site.toml
+expect_exit 2 "water table from a site without one" -- "$CAVESIM" run table_site.toml --out o8
+stderr_has "key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
 [ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
 
 printf 'name = "x"\n[domain\n' > malformed.toml

@@ -259,3 +259,23 @@ sinks = [2]
     for (const auto& sink : d.sinkVoxels)
         for (std::size_t v : sink) EXPECT_EQ(d.flags[v] & (kSink | kInert), flagsBefore[v] & (kSink | kInert));
 }
+
+// A site's water table (`[hydrology] from_site`, per column in index units) that is level at 20 grows
+// exactly the cave of the plane `water_table = 20`.
+TEST(Stage2, SiteWaterTableActsAsTheSamePlane) {
+    Scenario s = parseScenarioString(kTwoChannels, "two.toml");
+    s.stage2.hydrology.waterTable = 20;
+    Domain plane = prepared(s);
+    const Stage2Result a = runStage2(plane, s.stage2);
+    s.stage2.hydrology.waterTable = -1;
+    s.stage2.hydrology.fromSite = true;
+    Domain site = prepared(s);
+    site.siteWaterTable.assign(std::size_t(site.dims.nx) * std::size_t(site.dims.ny), 20.0);
+    const Stage2Result b = runStage2(site, s.stage2);
+    ASSERT_EQ(b.phases.size(), 1u);
+    EXPECT_TRUE(b.phases[0].fromSite);
+    EXPECT_EQ(a.phases[0].caveAbove, b.phases[0].caveAbove);
+    EXPECT_GT(a.phases[0].caveAbove, 0);
+    EXPECT_EQ(plane.flags.data, site.flags.data);
+    EXPECT_EQ(plane.porosity.data, site.porosity.data);
+}
