@@ -800,7 +800,7 @@ void insertValue(toml::table& t, const Param& p, const ParamValue& v) {
 
 }  // namespace
 
-toml::table scenarioTable(const Scenario& s) {
+toml::table scenarioTable(const Scenario& s, bool everyTable) {
     toml::table root;
     for (const ParamSection& section : scenarioParameters()) {
         if (section.isArray) {
@@ -816,7 +816,7 @@ toml::table scenarioTable(const Scenario& s) {
             }
             parent.insert(section.path.substr(dot == std::string::npos ? 0 : dot + 1), std::move(entries));
         } else {
-            if (section.omitAtDefaults &&
+            if (section.omitAtDefaults && !everyTable &&
                 std::all_of(section.params.begin(), section.params.end(),
                             [&](const Param& p) { return p.get(section.record(s, 0)) == p.get(section.defaults()); }))
                 continue;
