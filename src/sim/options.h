@@ -117,6 +117,7 @@ struct Hydrology {
     double lateral = 0.1;
     /// the table is `[site] water_table` (sampled on the block's columns) instead of a plane
     bool fromSite = false;
+    int line = 0;  ///< line of the `[hydrology]` table in the scenario file (for messages)
 };
 
 /// One base-level phase of stage 2 (`[[phase]]`): iterations run with its own water table and

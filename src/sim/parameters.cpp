@@ -629,6 +629,7 @@ std::vector<ParamSection> makeRegistry() {
                     "level for that phase"),
         }));
     hydro.omitAtDefaults = true;
+    hydro.setLine = [](void* r, int line) { static_cast<Hydrology*>(r)->line = line; };
     hydro.prose =
         "A water table divides the block into a vadose zone above it, where water is not pressurised and\n"
         "moves down under gravity (shafts and canyons), and a phreatic zone below, where the paper's\n"

@@ -104,7 +104,7 @@ struct ParamSection {
     std::function<void*(Scenario&, std::size_t)> mutableRecord;
     /// A table of arrays: appends a default record and returns it.
     std::function<void*(Scenario&)> append;
-    /// A table of arrays of terminals: records the entry's line in the file (for messages).
+    /// Records the line of the table (of an entry, for a table of arrays) in the file (for messages).
     std::function<void(void* record, int line)> setLine;
     /// A default record (for defaults of a table of arrays' keys).
     std::function<const void*()> defaults;

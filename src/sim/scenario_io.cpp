@@ -534,6 +534,7 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
             }
         } else if (const toml::table* t = r.subtable(key)) {
             TableReader cr(*t, child.path, ctx.file);
+            if (child.setLine) child.setLine(child.mutableRecord(ctx.s, 0), int(t->source().begin.line));
             readSection(child, *t, cr, child.mutableRecord(ctx.s, 0), ctx);
         }
     }
@@ -576,13 +577,13 @@ void validateHydrology(const Scenario& s) {
            << " (voxel index units), or be -1 for none";
         throw InputError(os.str());
     };
-    checkLevel(s.stage2.hydrology.waterTable, &s.stage2.hydrology.waterTable, 0, "");
     const Hydrology& h = s.stage2.hydrology;
+    checkLevel(h.waterTable, &h.waterTable, h.line, "");
     if (h.fromSite && s.site.waterTable.empty())
-        throw InputError(s.path + ": key '" + scenarioKey(s, &h.fromSite) + "' = true needs a surface in '" +
+        throw InputError(where(s, h.line) + ": key '" + scenarioKey(s, &h.fromSite) + "' = true needs a surface in '" +
                          scenarioKey(s, &s.site.waterTable) + "'");
     if (h.fromSite && (h.waterTable != -1.0 || h.dip != 0.0))
-        throw InputError(s.path + ": key '" + scenarioKey(s, &h.fromSite) +
+        throw InputError(where(s, h.line) + ": key '" + scenarioKey(s, &h.fromSite) +
                          "' = true takes the table from the site: "
                          "leave '" +
                          scenarioKey(s, &h.waterTable) + "' at -1 and '" + scenarioKey(s, &h.dip) + "' at 0");

@@ -38,7 +38,7 @@ stderr_has "stage 2 needs at least one [[sink]]"
 # Water table and phases (the small scenario is 12 voxels tall, with one sink).
 { cat good.toml; printf '[hydrology]\nwater_table = 12\n'; } > table_high.toml
 expect_exit 2 "water table above the block" -- "$CAVESIM" run table_high.toml --out o8
-stderr_has "key 'hydrology.water_table' = 12: a water table must lie in the block, 0 to nz - 1 = 11"
+stderr_has "table_high.toml:21: key 'hydrology.water_table' = 12: a water table must lie in the block, 0 to nz - 1 = 11"
 printf 'phase = []\n' | cat - good.toml > phase_empty.toml
 expect_exit 2 "empty phase list" -- "$CAVESIM" run phase_empty.toml --out o8
 stderr_has "phase_empty.toml:1: key 'phase' = []: an empty list"
@@ -56,7 +56,7 @@ expect_exit 2 "phase water table above the block" -- "$CAVESIM" run phase_high.t
 stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
 { cat good.toml; printf '[hydrology]\nfrom_site = true\n'; } > table_site.toml
 expect_exit 2 "water table from a site without one" -- "$CAVESIM" run table_site.toml --out o8
-stderr_has "key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
+stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
 [ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
 
 printf 'name = "x"\n[domain\n' > malformed.toml
