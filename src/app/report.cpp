@@ -79,27 +79,56 @@ nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
                         {"sources_connected", h.sourcesConnected},
                         {"balance_error", num(h.balanceError)}});
     }
+    const auto box = [](const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+        return lo[0] > hi[0] ? nlohmann::json(nullptr) : nlohmann::json{{"lo", lo}, {"hi", hi}};
+    };
+    nlohmann::json phases = nlohmann::json::array();
+    for (const Stage2PhaseRecord& p : r.phases) {
+        phases.push_back(
+            {{"first_iteration", p.firstIteration},
+             {"iterations", p.iterations},
+             {"water_table", p.waterTable >= 0 ? nlohmann::json(num(p.waterTable)) : nlohmann::json(nullptr)},
+             {"water_table_from_site", p.fromSite},
+             {"sinks", p.sinks},
+             {"sources", p.sources},
+             {"breakthrough_iteration",
+              p.breakthroughIteration ? nlohmann::json(*p.breakthroughIteration) : nlohmann::json(nullptr)},
+             {"cave_voxels_added", p.channelVoxelsEnd - p.channelVoxelsStart},
+             {"cave_voxels", p.channelVoxelsEnd},
+             {"cave_voxels_below_table", p.caveBelow},
+             {"cave_voxels_above_table", p.caveAbove},
+             {"cave_volume_below_table_m3", num(double(p.caveBelow) * voxelVolume)},
+             {"cave_volume_above_table_m3", num(double(p.caveAbove) * voxelVolume)},
+             {"cave_box_below_table", box(p.belowLo, p.belowHi)},
+             {"cave_box_above_table", box(p.aboveLo, p.aboveHi)},
+             {"cave_above_table_voxels_per_slice", num(p.aboveSliceMean)},
+             {"water_injected", num(p.injected)},
+             {"water_drained", num(p.drained)},
+             {"eroded_m3", num(p.eroded * voxelVolume)}});
+    }
     nlohmann::json perSource = nlohmann::json::array();
     for (const auto& it : r.sourceConnectedIteration)
         perSource.push_back(it ? nlohmann::json(*it) : nlohmann::json(nullptr));
-    return {{"iterations", r.iterations},
-            {"breakthrough_iteration",
-             r.breakthroughIteration ? nlohmann::json(*r.breakthroughIteration) : nlohmann::json(nullptr)},
-            {"source_connected_iteration", perSource},
-            {"water_balance_rel_error", num(r.waterBalanceRelError)},
-            {"water_injected", num(r.totalInjected)},
-            {"source_water_injected",
-             [&] {
-                 nlohmann::json a = nlohmann::json::array();
-                 for (double x : r.sourceInjected) a.push_back(num(x));
-                 return a;
-             }()},
-            {"water_drained", num(r.totalDrained)},
-            {"pressure_cap", num(r.pressureCap)},
-            {"seconds_pressure", num(r.pressureSeconds)},
-            {"seconds_transport", num(r.transportSeconds)},
-            {"seconds_erosion", num(r.erosionSeconds)},
-            {"history", hist}};
+    nlohmann::json out = {{"iterations", r.iterations},
+                          {"breakthrough_iteration", r.breakthroughIteration ? nlohmann::json(*r.breakthroughIteration)
+                                                                             : nlohmann::json(nullptr)},
+                          {"source_connected_iteration", perSource},
+                          {"water_balance_rel_error", num(r.waterBalanceRelError)},
+                          {"water_injected", num(r.totalInjected)},
+                          {"source_water_injected",
+                           [&] {
+                               nlohmann::json a = nlohmann::json::array();
+                               for (double x : r.sourceInjected) a.push_back(num(x));
+                               return a;
+                           }()},
+                          {"water_drained", num(r.totalDrained)},
+                          {"pressure_cap", num(r.pressureCap)},
+                          {"seconds_pressure", num(r.pressureSeconds)},
+                          {"seconds_transport", num(r.transportSeconds)},
+                          {"seconds_erosion", num(r.erosionSeconds)},
+                          {"history", hist}};
+    if (!r.phases.empty()) out["phases"] = phases;
+    return out;
 }
 
 // ---- report.md ---------------------------------------------------------------------------------
@@ -344,6 +373,15 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
             md << "- Near the stage-1 protochannels (within " << fmt(at(near, "radius_vox"))
                << " voxels): " << fmt(at(near, "centreline_share")) << " of the centreline, "
                << fmt(at(near, "block_share")) << " of the block.\n";
+        if (st2.contains("phases"))
+            for (const auto& p : st2["phases"]) {
+                md << "- Phase from iteration " << fmt(at(p, "first_iteration")) << ", " << fmt(at(p, "iterations"))
+                   << " iterations, water table " << fmt(at(p, "water_table")) << " (voxels), sinks "
+                   << at(p, "sinks").dump() << ", sources " << at(p, "sources").dump() << ": breakthrough at iteration "
+                   << fmt(at(p, "breakthrough_iteration")) << "; " << fmt(at(p, "cave_voxels_added"))
+                   << " cave voxels added; cave volume below the table " << fmt(at(p, "cave_volume_below_table_m3"))
+                   << " m³, above " << fmt(at(p, "cave_volume_above_table_m3")) << " m³.\n";
+            }
         md << "- Water balance: injected " << fmt(at(st2, "water_injected"), 6) << ", drained "
            << fmt(at(st2, "water_drained"), 6) << ", relative error " << fmt(at(st2, "water_balance_rel_error"), 2)
            << ".\n";

@@ -343,7 +343,7 @@ void Scenario::clear(const std::string& tableArray) {
 }
 
 Value Scenario::get(const std::string& key) const {
-    const toml::table all = scenarioTable(impl_->scenario);
+    const toml::table all = scenarioTable(impl_->scenario, true);
     const toml::node* n = &all;
     for (const std::string& part : splitKey(key)) {
         n = n->is_table() ? n->as_table()->get(part) : nullptr;

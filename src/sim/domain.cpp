@@ -36,6 +36,9 @@ void applySite(Domain& dom, const Scenario& s, const SiteData& site) {
     const Dims& d = dom.dims;
     if (site.nx != d.nx || site.ny != d.ny) throw InputError(s.path + ": the site data is not on the block's columns");
     const double h = s.voxelSize, z0 = s.site.origin[2];
+    // World elevation → index units: voxel k's centre is at z0 + (k + 0.5) · h.
+    dom.siteWaterTable.clear();
+    for (double z : site.waterTable) dom.siteWaterTable.push_back((z - z0) / h - 0.5);
     for (int j = 0; j < d.ny; ++j)
         for (int i = 0; i < d.nx; ++i) {
             const std::size_t col = std::size_t(i) + std::size_t(d.nx) * std::size_t(j);

@@ -55,6 +55,9 @@ struct Domain {
     std::vector<std::vector<std::size_t>> sourceVoxels;
     std::vector<double> sourcePressure;  ///< relative pressure of each source
     std::vector<std::vector<std::size_t>> sinkVoxels;
+    /// A site's water table (`[site] water_table`): per column i + nx · j, the table's height z in
+    /// voxel index units (voxel centres at integer k); empty without one.
+    std::vector<double> siteWaterTable;
 };
 
 /// A domain of `dims` voxels of `voxelSize` metres, uniform porosity (porosity0 the same), no

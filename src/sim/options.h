@@ -103,6 +103,33 @@ struct Stage1Options {
     int sinkGap = 2;
 };
 
+/// The water table of stage 2 (docs/model.md, "Water table and gravity"): a plane in voxel (index)
+/// units. Voxels whose centre lies above it are vadose: their water is not pressurised and moves
+/// down under gravity; below it the paper's pressure model holds (phreatic).
+struct Hydrology {
+    /// voxels: height (z index) of the table above the block's centre column; −1 = none (every
+    /// voxel phreatic, the paper's model)
+    double waterTable = -1.0;
+    double dip = 0.0;           ///< degrees: the table's dip (0 = level)
+    double dipDirection = 0.0;  ///< degrees clockwise from +y: the direction the table falls towards
+    /// fraction of the field pressure added to a vadose voxel's gravitational potential: how strongly
+    /// vadose water drifts towards the sinks along a floor (0 = straight down only)
+    double lateral = 0.1;
+    /// the table is `[site] water_table` (sampled on the block's columns) instead of a plane
+    bool fromSite = false;
+    int line = 0;  ///< line of the `[hydrology]` table in the scenario file (for messages)
+};
+
+/// One base-level phase of stage 2 (`[[phase]]`): iterations run with its own water table and
+/// active terminals, phases in file order.
+struct Stage2Phase {
+    int iterations = 0;        ///< iterations of the phase (at least 1)
+    double waterTable = -1.0;  ///< voxels: the table's height at the centre column; −1 = `[hydrology]`'s
+    std::vector<int> sinks;    ///< 1-based `[[sink]]` indices active in the phase; empty = all
+    std::vector<int> sources;  ///< 1-based `[[source]]` indices active in the phase; empty = all
+    int line = 0;              ///< line in the scenario file (for messages)
+};
+
 /// Stage 2 (stage2.h): pressure front, water transport, blending, erosion.
 struct Stage2Options {
     bool enabled = true;
@@ -124,6 +151,9 @@ struct Stage2Options {
     RateRule rateRule = RateRule::kPorosity;
     SourceInflow inflow = SourceInflow::kHead;
     std::vector<int> snapshots;  ///< iterations at which pictures are taken, at most 32
+    Hydrology hydrology;         ///< `[hydrology]`: the water table (none by default)
+    /// `[[phase]]`: base-level phases run in order; when given, their iterations replace `iterations`
+    std::vector<Stage2Phase> phases;
 };
 
 /// Speleothems (src/speleo/speleothems.h): stalactites grown on the drained cave's ceiling by

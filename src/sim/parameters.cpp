@@ -254,6 +254,27 @@ ParamSection tableArray(const char* path, std::vector<R> Scenario::*v, std::size
     return s;
 }
 
+/// A table of arrays whose records are the elements of the vector `of` returns (one inside a stage's options).
+template <typename R>
+ParamSection tableArrayOf(const char* path, std::vector<R>* (*of)(Scenario&), std::size_t maxEntries,
+                          const char* heading, std::vector<P> params) {
+    ParamSection s;
+    s.path = path;
+    s.isArray = true;
+    s.maxEntries = maxEntries;
+    s.heading = heading;
+    s.params.assign(params.begin(), params.end());
+    s.count = [of](const Scenario& sc) { return of(const_cast<Scenario&>(sc))->size(); };
+    s.record = [of](const Scenario& sc, std::size_t i) -> const void* { return &(*of(const_cast<Scenario&>(sc)))[i]; };
+    s.mutableRecord = [of](Scenario& sc, std::size_t i) -> void* { return &(*of(sc))[i]; };
+    s.append = [of](Scenario& sc) -> void* { return &of(sc)->emplace_back(); };
+    s.defaults = []() -> const void* {
+        static const R d{};
+        return &d;
+    };
+    return s;
+}
+
 Scenario* top(Scenario& s) {
     return &s;
 }
@@ -271,6 +292,12 @@ Stage1Options* stage1(Scenario& s) {
 }
 Stage2Options* stage2(Scenario& s) {
     return &s.stage2;
+}
+Hydrology* hydrology(Scenario& s) {
+    return &s.stage2.hydrology;
+}
+std::vector<Stage2Phase>* phases(Scenario& s) {
+    return &s.stage2.phases;
 }
 OutputOptions* output(Scenario& s) {
     return &s.output;
@@ -671,6 +698,68 @@ std::vector<ParamSection> makeRegistry() {
                 .rangeShown("at most 32 entries, 0–10⁶ each"),
         }));
 
+    ParamSection& hydro = r.emplace_back(table<Hydrology>(
+        "hydrology", hydrology, "water table: vadose and phreatic zones (docs/model.md)",
+        {
+            real("water_table", &Hydrology::waterTable, rng(-1, 1e6),
+                 "height (z, voxel index units) of the water table at the block's centre column; voxels whose "
+                 "centre lies above it are vadose (water moves down under gravity), the rest phreatic (the paper's "
+                 "pressure model); −1 = no water table. Otherwise at most nz − 1")
+                .unitIs("voxels")
+                .defaultShown("-1 (none)")
+                .rangeShown("-1, or 0 – nz − 1"),
+            real("dip", &Hydrology::dip, rng(0, 89), "dip of the water table (0 = level)").unitIs("degrees"),
+            real("dip_direction", &Hydrology::dipDirection, rng(0, 360, "[)"),
+                 "direction the table falls towards, clockwise from +y")
+                .unitIs("degrees"),
+            real("vadose_lateral", &Hydrology::lateral, rng(0, 1, "[)"),
+                 "fraction of the field pressure added to a vadose voxel's gravitational potential: how strongly "
+                 "vadose water drifts towards the sinks along a passage floor (0 = straight down only); below 1, "
+                 "so down is always downhill"),
+            boolean("from_site", &Hydrology::fromSite,
+                    "the water table is the surface of `[site] water_table` (needs it; then leave `water_table`, "
+                    "`dip` and `dip_direction` at their defaults); a phase's `water_table` still replaces it by a "
+                    "level for that phase"),
+        }));
+    hydro.omitAtDefaults = true;
+    hydro.setLine = [](void* r, int line) { static_cast<Hydrology*>(r)->line = line; };
+    hydro.prose =
+        "A water table divides the block into a vadose zone above it, where water is not pressurised and\n"
+        "moves down under gravity (shafts and canyons), and a phreatic zone below, where the paper's\n"
+        "pressure model holds. Without it (the default) stage 2 is the paper's model unchanged.";
+
+    ParamSection& phase = r.emplace_back(tableArrayOf(
+        "phase", phases, 64, "base-level phases",
+        {
+            integer("iterations", &Stage2Phase::iterations, rng(1, 1e6), "stage-2 iterations of this phase")
+                .unitIs("iterations")
+                .isRequired("100"),
+            real("water_table", &Stage2Phase::waterTable, rng(-1, 1e6),
+                 "the water table's height at the centre column during this phase (as `[hydrology] water_table`); "
+                 "−1 = `[hydrology] water_table`")
+                .unitIs("voxels")
+                .defaultShown("-1 ([hydrology])")
+                .rangeShown("-1, or 0 – nz − 1"),
+            intList("sinks", &Stage2Phase::sinks, rng(1, 256),
+                    "the `[[sink]]` entries (1-based, in file order) that drain during this phase; empty = all")
+                .items(0, 256)
+                .shape("an array of sink numbers")
+                .rangeShown("1 – number of sinks"),
+            intList("sources", &Stage2Phase::sources, rng(1, 256),
+                    "the `[[source]]` entries (1-based, in file order) that inject during this phase; empty = all")
+                .items(0, 256)
+                .shape("an array of source numbers")
+                .rangeShown("1 – number of sources"),
+        }));
+    phase.prose =
+        "Base-level phases run in file order in stage 2, each with its own water table and active sinks\n"
+        "and sources; when given, their iterations replace `[stage2] iterations`. A falling water table\n"
+        "leaves the passages of an earlier phase vadose (or dry) and grows a lower level. At most 64.";
+    phase.setLine = [](void* r, int line) { static_cast<Stage2Phase*>(r)->line = line; };
+    phase.exampleCommented = true;
+    phase.nonEmpty = true;
+    phase.exampleNote = "optional: phases replace [stage2] iterations; remove the '# '";
+
     r.push_back(table<OutputOptions>(
         "output", output, "",
         {
@@ -724,7 +813,8 @@ std::vector<ParamSection> makeRegistry() {
             path("base_of_limestone", &SiteSettings::baseOfLimestone,
                  "surface (GeoTIFF, or XYZ points `x y z` per line): voxels whose centre lies below it are insoluble"),
             path("water_table", &SiteSettings::waterTable,
-                 "surface (GeoTIFF or XYZ points): read, checked and kept with the site (report); does not yet "
+                 "surface (GeoTIFF or XYZ points): read, checked and kept with the site (report); the water table of "
+                 "stage 2 with `[hydrology] from_site = true`, else it does not "
                  "change the simulation"),
             real("sinkhole_pressure", &SiteSettings::sinkholePressure, rng(0, 1e6, "(]"),
                  "pressure of a sinkhole whose CSV row gives none (as [[source]] `pressure`)")
@@ -1018,7 +1108,10 @@ std::string exampleScenarioToml() {
         const std::string off = s.exampleCommented ? "# " : "";
         if (!s.path.empty())
             out << off << s.header() << (s.isArray ? "  # one entry of possibly many" : "")
-                << (s.exampleCommented ? " (it needs its files: remove the '# ')" : "") << "\n";
+                << (!s.exampleCommented     ? ""
+                    : s.exampleNote.empty() ? " (it needs its files: remove the '# ')"
+                                            : " (" + s.exampleNote + ")")
+                << "\n";
         for (const Param& p : s.params) {
             out << "# " << p.description << " (unit: " << p.unit << "; range: " << rangeText(p) << ")\n";
             if (p.type == ParamType::kVoxelBox) {

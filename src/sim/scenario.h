@@ -126,7 +126,7 @@ struct SiteSettings {
     std::string sinkholes;          ///< CSV x,y[,z],name[,pressure]: sources
     std::string springs;            ///< CSV x,y[,z],name[,pressure]: sinks
     std::string baseOfLimestone;    ///< GeoTIFF or XYZ: voxels whose centre is below it are insoluble
-    std::string waterTable;         ///< GeoTIFF or XYZ: kept on the site data (geology to come)
+    std::string waterTable;         ///< GeoTIFF or XYZ: stage 2's water table with `[hydrology] from_site`
     double sinkholePressure = 1.0;  ///< pressure of a sinkhole whose CSV row has none
 };
 

@@ -29,6 +29,7 @@
 /// result is the same for any thread count.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -54,6 +55,27 @@ struct Stage2Record {
     double balanceError = 0;   ///< |Δstored − (injected − drained)| this iteration
 };
 
+/// Totals of one base-level phase (`[[phase]]`, or the single phase of a run with a water table).
+/// Volumes in voxels (the report converts them to m³).
+struct Stage2PhaseRecord {
+    int firstIteration = 0;  ///< the phase's first iteration (1-based, run order)
+    int iterations = 0;      ///< iterations the phase ran
+    /// voxels: the table's height at the centre column; −1 none (also for a site's surface: `fromSite`)
+    double waterTable = -1;
+    bool fromSite = false;                     ///< the table was `[site] water_table`
+    std::vector<int> sinks, sources;           ///< active terminals, 1-based scenario order
+    std::optional<int> breakthroughIteration;  ///< first iteration of the phase with a source joined to an active sink
+    long channelVoxelsStart = 0;               ///< channel voxels when the phase began
+    long channelVoxelsEnd = 0;                 ///< channel voxels when it ended
+    long caveBelow = 0, caveAbove = 0;         ///< channel voxels at or below / above the phase's table at its end
+    /// voxels: bounding box (lo, hi per axis, inclusive) of the channel voxels above the table at the
+    /// phase's end; lo > hi when there are none
+    std::array<int, 3> aboveLo{0, 0, 0}, aboveHi{-1, -1, -1};
+    std::array<int, 3> belowLo{0, 0, 0}, belowHi{-1, -1, -1};  ///< the same, at or below the table
+    double aboveSliceMean = 0;  ///< channel voxels above the table per z-slice that holds any (a plan-view width)
+    double injected = 0, drained = 0, eroded = 0;  ///< water and porosity totals of the phase
+};
+
 struct Stage2Result {
     int iterations = 0;
     std::optional<int> breakthroughIteration;                  ///< first iteration with a source joined to a sink
@@ -68,6 +90,8 @@ struct Stage2Result {
     double workedVoxelIterations = 0;  ///< Σ over iterations of the voxels that worked (senders and their neighbours)
     long activeTiles = 0;              ///< 8³ tiles the water reached, with their neighbours, at the end
     long tiles = 0;                    ///< 8³ tiles of the block
+    /// per phase, in order; empty without `[hydrology]` and `[[phase]]` (the paper's model)
+    std::vector<Stage2PhaseRecord> phases;
 };
 
 /// Called after the iterations listed in `[stage2] snapshots` (and never otherwise).
@@ -99,7 +123,10 @@ void prepareStage2(Domain& domain, const Stage2Options& options);
 /// pressures: only their ratios matter then).
 double stage2PressureCap(const Domain& domain, const Stage2Options& options);
 
-/// Runs the stage-2 iterations on a prepared domain.
+/// Runs the stage-2 iterations on a prepared domain: `options.iterations`, or the `options.phases`
+/// in order, each with its water table and active terminals (inactive sinks neither drain nor hold
+/// the pressure at 0 and are not eroded; inactive sources do not refill). The flags of the
+/// terminals are as given again when it returns.
 /// @throw RuntimeError if water conservation or finiteness is violated (a bug, never user input)
 /// With `checkpoints`, saves its state every so many iterations, or continues from a saved state:
 /// the result is the same bits either way.
