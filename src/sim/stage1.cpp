@@ -330,9 +330,12 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
             if (!w.voxels.empty() && !w.sources.empty()) {
                 const flownet::FlowNetwork net =
                     flownet::buildFlowNetwork(porosityIn(w.frame), w.voxels, w.sources, w.protosinks, netOptions);
+                w.stats.buildSeconds = tz.seconds();
                 flownet::MaxFlowResult flow = flownet::leastResistanceMaxFlow(net);
                 w.stats.cyclesCancelled = long(flownet::cancelFlowCycles(net, flow));
+                w.stats.solveSeconds = tz.seconds() - w.stats.buildSeconds;
                 const flownet::ProtochannelTree tree = flownet::traceProtochannels(net, flow, traceOptions);
+                w.stats.traceSeconds = tz.seconds() - w.stats.buildSeconds - w.stats.solveSeconds;
                 w.stats.graphNodes = long(net.voxelNodes);
                 w.stats.graphEdges = long(net.voxelEdgeCount());
                 w.stats.graphBytes = long(net.bytes() + flow.solverBytes + flow.flow.capacity() * sizeof(double));

@@ -69,6 +69,9 @@ struct ZoneStats {
     long protosinks = 0;          ///< protosink voxels
     long protochannelVoxels = 0;  ///< voxels traced
     double seconds = 0;           ///< wall time of build, solve and trace
+    double buildSeconds = 0;      ///< of it: building the network
+    double solveSeconds = 0;      ///< of it: least-resistance max flow and cycle cancelling
+    double traceSeconds = 0;      ///< of it: tracing the protochannels
     long protosinksWithFlow = 0;  ///< protosinks that received flow
     long branches = 0;            ///< branches of the protochannel tree
     long cyclesCancelled = 0;     ///< flow cycles removed before tracing
