@@ -23,6 +23,12 @@
 ///     the network, so no channel runs along the zone's edge). Each protosink drains at most its
 ///     share of `protosinkShare` × the source capacity (in proportion to its porosity): the
 ///     paper's "idealized small-flow gradient", the same all over the boundary.
+///     **Neighbourhood.** A zone with more network voxels than `networkVoxels` gets a network of
+///     its `networkVoxels` voxels the zone's front reached first (arrival time of the zone march
+///     at most the `networkVoxels`-th smallest, all on ties; source voxels always): an
+///     iso-arrival-time ball around the source. Its edge counts as zone boundary (protosinks
+///     there, as with a neighbouring zone). The reason is cost: time and memory of the max flow
+///     grow with the network (`kStage1BytesPerNetworkVoxel`), docs/model.md "Stage 1".
 ///  3. **Max flow** (src/flownet/max_flow.h): the maximum flow of least total resistance, by
 ///     primal–dual phases of Dijkstra + Boost.Graph's Boykov–Kolmogorov max flow; flow cycles
 ///     are then cancelled. The file comment there says why a plain max flow is not enough.
@@ -57,6 +63,16 @@
 #include "sim/options.h"
 
 namespace cavesim {
+
+/// Peak heap bytes of one flow network and its solver per network voxel (26-neighbour links:
+/// the network's arcs with capacity, resistance, target and reverse, Boost's CSR topology, the
+/// flow and the two per-phase arrays of the least-resistance max flow, and the per-node arrays;
+/// measured, bench/README.md "Stage 1 at scale"). Used by the memory check before the networks
+/// are built and by the pre-flight estimate (sim/preflight.h).
+constexpr double kStage1BytesPerNetworkVoxel = 1250;
+
+/// Peak bytes of one zone's network and solver with `networkVoxels` voxels.
+double stage1NetworkBytes(double networkVoxels);
 
 /// Size, flow and outcome of one zone's network.
 struct ZoneStats {
