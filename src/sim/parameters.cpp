@@ -610,7 +610,7 @@ std::vector<ParamSection> makeRegistry() {
             integer("network_voxels", &Stage1Options::networkVoxels, rng(1, 1e9),
                     "a larger zone's flow network is limited to the neighbourhood of its source: the zone's this many "
                     "voxels its front reached first (an iso-arrival-time ball around the source; its edge drains like "
-                    "the zone's boundary). Bounds stage 1's memory (about 1,250 bytes per network voxel) and time")
+                    "the zone's boundary). Bounds stage 1's memory (about 1,450 bytes per network voxel) and time")
                 .unitIs("voxels"),
             choiceList("boundary_faces", &Stage1Options::boundaryFaces, faces, "grid faces",
                        "faces of the block that count as zone boundary (protosinks there), besides the boundaries "

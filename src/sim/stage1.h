@@ -69,7 +69,7 @@ namespace cavesim {
 /// flow and the two per-phase arrays of the least-resistance max flow, and the per-node arrays;
 /// measured, bench/README.md "Stage 1 at scale"). Used by the memory check before the networks
 /// are built and by the pre-flight estimate (sim/preflight.h).
-constexpr double kStage1BytesPerNetworkVoxel = 1250;
+constexpr double kStage1BytesPerNetworkVoxel = 1450;
 
 /// Peak bytes of one zone's network and solver with `networkVoxels` voxels.
 double stage1NetworkBytes(double networkVoxels);
