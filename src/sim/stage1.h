@@ -78,7 +78,7 @@ double stage1NetworkBytes(double networkVoxels);
 struct ZoneStats {
     int source = 0;               ///< source index (scenario order)
     long voxels = 0;              ///< voxels in the zone
-    long graphNodes = 0;          ///< voxel nodes of the network (the zone without its sinks)
+    long graphNodes = 0;          ///< voxel nodes of the network (the zone without its sinks, or its neighbourhood)
     long graphEdges = 0;          ///< undirected voxel–voxel edges with positive capacity
     long graphBytes = 0;          ///< peak heap bytes of network and solver
     double maxFlow = 0;           ///< max-flow value (capacity units: porosity^exponent)
@@ -104,10 +104,10 @@ struct Stage1Result {
     double zoneSeconds = 0;          ///< wall time of the zone division
 };
 
-/// A stage-1 limit exceeded by the scenario (user input, exit 2): a zone larger than
-/// `Stage1Options::maxGraphVoxels`, or networks that would not fit in memory. The message says
-/// what to change; `source` is the index of the offending source (−1 for the memory limit), so the
-/// caller can point at the scenario entry and key.
+/// A stage-1 limit exceeded by the scenario (user input, exit 2): a network (zone or
+/// neighbourhood) larger than `Stage1Options::maxGraphVoxels`, or networks that would not fit in
+/// memory. The message says what to change; `source` is the index of the offending source (−1 for
+/// the memory limit), so the caller can point at the scenario entry and key.
 class Stage1LimitError : public InputError {
 public:
     Stage1LimitError(const std::string& message, int source) : InputError(message), source(source) {}
@@ -118,8 +118,9 @@ public:
 /// traced voxels kProtochannel. Porosity is not changed (the display of protochannels as opened
 /// channels, `Stage1Options::protochannelPorosity`, is the outputs' business: `stage1DisplayPorosity`).
 /// Deterministic for the rng state and any thread count.
-/// @throw Stage1LimitError if a zone has more voxels than `options.maxGraphVoxels` (checked
-///        before any network is built) or the networks solved at once would not fit in memory
+/// @throw Stage1LimitError if a network would have more voxels than `options.maxGraphVoxels` (the
+///        zone, or at most `networkVoxels` of it; checked before any network is built) or the
+///        networks solved at once would not fit in memory
 Stage1Result runStage1(Domain& domain, const Stage1Options& options, Rng& rng, const ProgressFn& progress = {});
 
 /// The zone division alone (step 1): zone label per voxel (source index, −1 none).
