@@ -90,6 +90,9 @@ struct Stage1Options {
     double protochannelPorosity = 0.35;  ///< porosity shown along protochannels after stage 1
     double capacityExponent = 1.0;       ///< edge capacity = min(porosity)^exponent
     long maxGraphVoxels = 4000000;       ///< zones larger than this are refused (memory)
+    /// Voxels of a flow network at most: a larger zone's network is its `networkVoxels` voxels
+    /// the zone's front reached first (stage1.h, "Neighbourhood").
+    long networkVoxels = 1000000;
     /// Grid faces that count as zone boundary (protosinks there), each at most once, in the order
     /// given; empty = only the boundaries between zones. Default: all but the top (+z), the
     /// recharge side from which the sources are fed.

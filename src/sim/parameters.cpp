@@ -604,8 +604,13 @@ std::vector<ParamSection> makeRegistry() {
                  "flow-network edge capacity = (smaller porosity of the two voxels)^exponent / edge length (1, √2 or "
                  "√3: the 26 neighbours); its resistance is 1 / capacity"),
             integer("max_graph_voxels", &Stage1Options::maxGraphVoxels, rng(1, 1e9),
-                    "a larger zone is refused with an error before any network is built (a network needs about 1,700 "
-                    "bytes per voxel)")
+                    "a zone whose flow network would be larger (the zone, or its `network_voxels` nearest voxels) is "
+                    "refused with an error before any network is built")
+                .unitIs("voxels"),
+            integer("network_voxels", &Stage1Options::networkVoxels, rng(1, 1e9),
+                    "a larger zone's flow network is limited to the neighbourhood of its source: the zone's this many "
+                    "voxels its front reached first (an iso-arrival-time ball around the source; its edge drains like "
+                    "the zone's boundary). Bounds stage 1's memory (about 1,450 bytes per network voxel) and time")
                 .unitIs("voxels"),
             choiceList("boundary_faces", &Stage1Options::boundaryFaces, faces, "grid faces",
                        "faces of the block that count as zone boundary (protosinks there), besides the boundaries "
