@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -66,10 +67,21 @@ void runStages(Domain& dom, const Scenario& s, Rng& rng, RunRecord& rec, const P
     }
 }
 
+std::vector<double> familyStrikes(const Scenario& s) {
+    std::vector<double> strikes;
+    for (const FractureFamily& f : s.fractureFamilies) {
+        double strike = std::fmod(f.dipDirection - 90.0, 180.0);
+        if (strike < 0) strike += 180.0;
+        strikes.push_back(strike);
+    }
+    return strikes;
+}
+
 morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& dom, const Scenario& s, const RunRecord& rec) {
     const std::vector<std::optional<int>> connected =
         rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
-    morpho::CaveAnalysis a = morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+    morpho::CaveAnalysis a =
+        morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected, {}, familyStrikes(s));
     addProtochannelProximity(a, dom, s);
     return a;
 }

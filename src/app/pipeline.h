@@ -73,6 +73,10 @@ struct StageHooks {
 void runStages(Domain& domain, const Scenario& scenario, Rng& rng, RunRecord& record, const ProgressFn& progress,
                const StageHooks& hooks = {});
 
+/// The strikes of the scenario's fracture families, degrees clockwise from north in [0, 180):
+/// dip direction − 90°, for the pattern's family-share criterion (empty without families).
+std::vector<double> familyStrikes(const Scenario& scenario);
+
 /// The cave analysis of a run (morpho::analyseCave): the pressure field and the iterations at which
 /// the sources joined a sink when stage 2 ran.
 morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& domain, const Scenario& scenario,

@@ -78,7 +78,8 @@ std::string rebuildReport(const std::string& dirArg) {
             connected.push_back(v.is_number_integer() ? std::optional<int>(v.get<int>()) : std::nullopt);
     }
     const Cave cave = makeCave(dom, s.output.cave);
-    morpho::CaveAnalysis analysis = morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+    morpho::CaveAnalysis analysis =
+        morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected, {}, familyStrikes(s));
     addProtochannelProximity(analysis, dom, s);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.string(), dom.voxelSize, dom.dims);
     const nlohmann::json a = analysisJson(analysis);

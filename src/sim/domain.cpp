@@ -130,7 +130,7 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
 
     // Bedding planes and fractures, then inception horizons: the same slabs; a horizon's voxels are
     // also marked for stage 2's early-flow rate.
-    if (!s.inceptionHorizons.empty()) dom.inception = Grid3<std::uint8_t>(d, 0);
+    if (!s.inceptionHorizons.empty() || !s.fractureFamilies.empty()) dom.inception = Grid3<std::uint8_t>(d, 0);
     std::vector<const PlaneFeature*> slabs;
     for (const PlaneFeature& p : s.planes) slabs.push_back(&p);
     for (const PlaneFeature& p : s.inceptionHorizons) slabs.push_back(&p);
@@ -156,7 +156,8 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
                 }
     }
 
-    // Fracture families: discs from their own seeded streams (the run's engine is not drawn from).
+    // Fracture families: discs from their own seeded streams (the run's engine is not drawn from);
+    // their slabs are early-flow paths like inception horizons (marked in `dom.inception`).
     if (!s.fractureFamilies.empty())
         applyFractureNetwork(dom, generateFractureNetwork(s.fractureFamilies, d, s.seed), s.fractureFamilies);
 

@@ -46,7 +46,8 @@ struct Domain {
     Grid3<float> pressure;     ///< stage 2
     Grid3<float> water;        ///< stage 2 contents W in [0, R]
     Grid3<float> flow;         ///< stage 2 flow f of the last iteration
-    /// 1 on an inception horizon ([[rock.inception_horizon]]), else 0; empty without horizons. Stage 2
+    /// 1 on an inception horizon ([[rock.inception_horizon]]) or a fracture of a family
+    /// ([[rock.fracture_family]]), else 0; empty without either: early-flow paths. Stage 2
     /// reads such a voxel's pressure rate from its porosity against `rockPorosity` (stage2.h).
     Grid3<std::uint8_t> inception;
     float rockPorosity = 0.f;  ///< the background porosity `[rock] porosity`

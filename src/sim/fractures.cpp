@@ -174,6 +174,11 @@ void applyFractureNetwork(Domain& dom, const FractureNetwork& net, const std::ve
     for (const FractureDisc& d : net.discs) {
         const FractureFamily& f = families[std::size_t(d.family)];
         rasteriseDisc(d, f.aperture, float(f.porosity), dom.porosity, dom.flags);
+        // A fracture is an early-flow path like an inception horizon: mark its slab for stage 2.
+        if (dom.inception.data.empty()) continue;
+        forEachDiscVoxel(d, f.aperture, dom.porosity.dims, [&](int i, int j, int k, double h, bool inDisc) {
+            if (inDisc && std::abs(h) <= 0.5 * f.aperture) dom.inception.at(i, j, k) = 1;
+        });
     }
 }
 

@@ -108,7 +108,9 @@ long rasteriseDisc(const FractureDisc& disc, double thickness, float porosity, G
 void measureFractureNetwork(FractureNetwork& network, const std::vector<FractureFamily>& families, const Dims& dims);
 
 /// Rasterises every disc of `network` into `domain` (rasteriseDisc) with its family's aperture and
-/// porosity, in disc order (the result does not depend on it: max and or).
+/// porosity, in disc order (the result does not depend on it: max and or). When `domain.inception`
+/// is allocated, the same slab voxels are set to 1 there: a fracture of a family is an early-flow
+/// path, like an inception horizon (stage 2 reads their rate from porosity against the rock's).
 void applyFractureNetwork(Domain& domain, const FractureNetwork& network, const std::vector<FractureFamily>& families);
 
 // ---------------------------------------------------------------------------------------------

@@ -222,6 +222,20 @@ at = [35, 15, 11]
     long raised = 0;
     for (float r : dom.porosity0.data) raised += r == 0.3f;
     EXPECT_GT(raised, 100);
+    // A family's fractures are early-flow paths like inception horizons: stage 2 reads their rate
+    // from their porosity against the rock's; the rock between them keeps p_rate.
+    ASSERT_EQ(dom.inception.size(), dom.porosity.size());
+    const Stage2Options g;
+    const Grid3<float> rate = stage2::rateField(dom, g);
+    long early = 0;
+    for (std::size_t v = 0; v < dom.porosity0.data.size(); ++v) {
+        if (dom.flags.data[v] & ~kFracture) continue;  // sources and sinks have their own rate
+        const bool inFracture = dom.porosity0.data[v] == 0.3f;
+        EXPECT_EQ(dom.inception.data[v], inFracture ? 1 : 0);
+        EXPECT_EQ(rate.data[v], inFracture ? stage2::porosityRate(0.3f, dom.rockPorosity, g) : float(g.pRate));
+        early += inFracture;
+    }
+    EXPECT_GT(early, 100);
     // The effective scenario reads back to the same text.
     EXPECT_EQ(scenarioToToml(parseScenarioString(scenarioToToml(s), "e.toml")), scenarioToToml(s));
 
