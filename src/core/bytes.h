@@ -73,7 +73,8 @@ public:
                  " belong");
         if (n > left() / sizeof(T)) fail(std::string("ends inside ") + what);
         v.resize(std::size_t(n));
-        std::memcpy(v.data(), take(std::size_t(n) * sizeof(T), what), std::size_t(n) * sizeof(T));
+        const char* from = take(std::size_t(n) * sizeof(T), what);
+        if (n > 0) std::memcpy(v.data(), from, std::size_t(n) * sizeof(T));  // an empty vector's data() may be null
     }
     void getBools(std::vector<bool>& v, const char* what, std::size_t expected = std::size_t(-1)) {
         std::vector<std::uint8_t> bytes;
