@@ -130,4 +130,9 @@ same_outputs whole d "resumed from iteration 40"
 expect_exit 2 "no checkpoint" -- "$CAVESIM" resume nowhere -q
 stderr_has "no checkpoint to resume from"
 expect_exit 2 "negative interval" -- "$CAVESIM" run s.toml --out n --checkpoint-every -1 -q
+# Phases and water tables are not checkpointed yet: refused before anything is written.
+printf '\n[hydrology]\nwater_table = 5\n' | cat s.toml - > wt.toml
+expect_exit 2 "checkpoints with a water table" -- "$CAVESIM" run wt.toml --out w --checkpoint-every 10 -q
+stderr_has "not available yet"
+[ ! -e w ] && [ ! -e .w.checkpoint ] && pass "water table + checkpoints: nothing written" || fail "left: $(ls -A)"
 finish
