@@ -257,10 +257,17 @@ std::array<double, 26> invLengths() {
     return out;
 }
 
-std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
+/// Whether the 0-based `index` is in the 1-based `list` (empty = all).
+bool listed(const std::vector<int>& list, std::size_t index) {
+    return list.empty() || std::find(list.begin(), list.end(), int(index + 1)) != list.end();
+}
+
+/// The voxels of the sinks in `sinks` (1-based; empty = all) as pressure seeds.
+std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom, const std::vector<int>& sinks = {}) {
     std::vector<fastmarch::Seed> seeds;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink) seeds.push_back({v, 0.0, 0});
+    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+        if (listed(sinks, si))
+            for (std::size_t v : dom.sinkVoxels[si]) seeds.push_back({v, 0.0, 0});
     return seeds;
 }
 
@@ -435,8 +442,17 @@ std::vector<bool> connectedSources(const Domain& dom) {
     return sourcesReached(dom, reachedFromSinks(dom, kConducting));
 }
 
-void reachFromSinks(const Domain& dom, Stage2State& st) {
-    st.reached = reachedFromSinks(dom, kConducting);
+void reachFromSinks(const Domain& dom, Stage2State& st, const std::vector<int>& sinks) {
+    st.reached.assign(dom.dims.count(), false);
+    std::deque<std::size_t> queue;
+    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+        if (listed(sinks, si))
+            for (std::size_t v : dom.sinkVoxels[si])
+                if (!st.reached[v]) {
+                    st.reached[v] = true;
+                    queue.push_back(v);
+                }
+    spreadThrough(dom, kConducting, queue, st.reached);
 }
 
 std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vector<std::size_t>& newConducting) {
@@ -906,10 +922,6 @@ struct PhasePlan {
     bool given = false;               ///< a `[[phase]]` entry (else the run's only phase)
 };
 
-bool listed(const std::vector<int>& list, std::size_t index) {
-    return list.empty() || std::find(list.begin(), list.end(), int(index + 1)) != list.end();
-}
-
 std::vector<int> activeList(const std::vector<int>& list, std::size_t count) {
     std::vector<int> out;
     for (std::size_t n = 0; n < count; ++n)
@@ -951,8 +963,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     }
     const bool phased = !g.phases.empty() || gravity;  // else the paper's model, unchanged
     if (phased && (checkpoints.resume || checkpoints.every > 0))
-        throw InputError("checkpoints are not available yet for runs with a water table ([hydrology]) or [[phase]] "
-                         "entries: run without --checkpoint-every");
+        throw InputError(
+            "checkpoints are not available yet for runs with a water table ([hydrology]) or [[phase]] "
+            "entries: run without --checkpoint-every");
 
     if (checkpoints.resume) {
         decodeCarry(*checkpoints.resume, checkpoints.resumeName, c, dom);
@@ -1026,23 +1039,10 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 if (phaseIndex > 0 || !ph.sinks.empty()) {
                     const Stopwatch tp;
                     rate = rateField(dom, g);
-                    std::vector<fastmarch::Seed> seeds;
-                    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
-                        if (listed(ph.sinks, si))
-                            for (std::size_t v : dom.sinkVoxels[si]) seeds.push_back({v, 0.0, 0});
-                    pressure.solve(d, rate, seeds, res.pressureCap, fastmarch::Stencil::kAvalanche26);
+                    pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap,
+                                   fastmarch::Stencil::kAvalanche26);
                     res.pressureSeconds += tp.seconds();
-                    // What is joined to an active sink (only those are searched from).
-                    std::fill(st.reached.begin(), st.reached.end(), false);
-                    std::deque<std::size_t> queue;
-                    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
-                        if (listed(ph.sinks, si))
-                            for (std::size_t v : dom.sinkVoxels[si])
-                                if (!st.reached[v]) {
-                                    st.reached[v] = true;
-                                    queue.push_back(v);
-                                }
-                    spreadThrough(dom, kConducting, queue, st.reached);
+                    reachFromSinks(dom, st, ph.sinks);  // only the active sinks are searched from
                     std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
                 }
                 std::fill(st.waterChanged.begin(), st.waterChanged.end(), std::uint8_t(1));
@@ -1141,7 +1141,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 for (int j = 0; j < d.ny; ++j)
                     for (int i = 0; i < d.nx; ++i) {
                         if (!(dom.flags[d.index(i, j, k)] & kChannel)) continue;
-                        if (hasTable && gravity && isVadose(d, table, i, j, k)) {
+                        if (hasTable && isVadose(d, table, i, j, k)) {
                             grow(prec.aboveLo, prec.aboveHi, prec.caveAbove, i, j, k);
                             ++prec.caveAbove;
                             ++inSlice;
