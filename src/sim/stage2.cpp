@@ -929,6 +929,33 @@ std::vector<int> activeList(const std::vector<int>& list, std::size_t count) {
     return out;
 }
 
+/// The cave (channel voxels) above and below `table` (none: all below) into `prec`: counts,
+/// bounding boxes and the mean count above per z-slice that holds any.
+void caveAroundTable(const Domain& dom, const std::vector<double>* table, Stage2PhaseRecord& prec) {
+    const Dims& d = dom.dims;
+    const auto grow = [](std::array<int, 3>& lo, std::array<int, 3>& hi, long& count, const std::array<int, 3>& p) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            lo[c] = count == 0 ? p[c] : std::min(lo[c], p[c]);
+            hi[c] = count == 0 ? p[c] : std::max(hi[c], p[c]);
+        }
+        ++count;
+    };
+    long slices = 0;
+    for (int k = 0; k < d.nz; ++k) {
+        const long aboveBefore = prec.caveAbove;
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                if (!(dom.flags[d.index(i, j, k)] & kChannel)) continue;
+                if (table && isVadose(d, *table, i, j, k))
+                    grow(prec.aboveLo, prec.aboveHi, prec.caveAbove, {i, j, k});
+                else
+                    grow(prec.belowLo, prec.belowHi, prec.caveBelow, {i, j, k});
+            }
+        if (prec.caveAbove > aboveBefore) ++slices;
+    }
+    prec.aboveSliceMean = slices > 0 ? double(prec.caveAbove) / double(slices) : 0.0;
+}
+
 }  // namespace
 
 Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& progress, const SnapshotFn& snapshot,
@@ -1125,34 +1152,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         if (phased) {
             prec.iterations = ph.iterations;
             prec.channelVoxelsEnd = st.channelVoxels;
-            // The cave above and below the phase's table: counts and bounding boxes.
-            const auto grow = [](std::array<int, 3>& lo, std::array<int, 3>& hi, long count, int i, int j, int k) {
-                const std::array<int, 3> p{i, j, k};
-                for (int c = 0; c < 3; ++c) {
-                    lo[std::size_t(c)] =
-                        count == 0 ? p[std::size_t(c)] : std::min(lo[std::size_t(c)], p[std::size_t(c)]);
-                    hi[std::size_t(c)] =
-                        count == 0 ? p[std::size_t(c)] : std::max(hi[std::size_t(c)], p[std::size_t(c)]);
-                }
-            };
-            long slices = 0;
-            for (int k = 0; k < d.nz; ++k) {
-                long inSlice = 0;
-                for (int j = 0; j < d.ny; ++j)
-                    for (int i = 0; i < d.nx; ++i) {
-                        if (!(dom.flags[d.index(i, j, k)] & kChannel)) continue;
-                        if (hasTable && isVadose(d, table, i, j, k)) {
-                            grow(prec.aboveLo, prec.aboveHi, prec.caveAbove, i, j, k);
-                            ++prec.caveAbove;
-                            ++inSlice;
-                        } else {
-                            grow(prec.belowLo, prec.belowHi, prec.caveBelow, i, j, k);
-                            ++prec.caveBelow;
-                        }
-                    }
-                if (inSlice > 0) ++slices;
-            }
-            prec.aboveSliceMean = slices > 0 ? double(prec.caveAbove) / double(slices) : 0.0;
+            caveAroundTable(dom, hasTable ? &table : nullptr, prec);
             res.phases.push_back(std::move(prec));
         }
     }
