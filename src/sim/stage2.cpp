@@ -257,10 +257,17 @@ std::array<double, 26> invLengths() {
     return out;
 }
 
-std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
+/// Whether the 0-based `index` is in the 1-based `list` (empty = all).
+bool listed(const std::vector<int>& list, std::size_t index) {
+    return list.empty() || std::find(list.begin(), list.end(), int(index + 1)) != list.end();
+}
+
+/// The voxels of the sinks in `sinks` (1-based; empty = all) as pressure seeds.
+std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom, const std::vector<int>& sinks = {}) {
     std::vector<fastmarch::Seed> seeds;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink) seeds.push_back({v, 0.0, 0});
+    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+        if (listed(sinks, si))
+            for (std::size_t v : dom.sinkVoxels[si]) seeds.push_back({v, 0.0, 0});
     return seeds;
 }
 
@@ -435,8 +442,17 @@ std::vector<bool> connectedSources(const Domain& dom) {
     return sourcesReached(dom, reachedFromSinks(dom, kConducting));
 }
 
-void reachFromSinks(const Domain& dom, Stage2State& st) {
-    st.reached = reachedFromSinks(dom, kConducting);
+void reachFromSinks(const Domain& dom, Stage2State& st, const std::vector<int>& sinks) {
+    st.reached.assign(dom.dims.count(), false);
+    std::deque<std::size_t> queue;
+    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+        if (listed(sinks, si))
+            for (std::size_t v : dom.sinkVoxels[si])
+                if (!st.reached[v]) {
+                    st.reached[v] = true;
+                    queue.push_back(v);
+                }
+    spreadThrough(dom, kConducting, queue, st.reached);
 }
 
 std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vector<std::size_t>& newConducting) {
@@ -906,15 +922,38 @@ struct PhasePlan {
     bool given = false;               ///< a `[[phase]]` entry (else the run's only phase)
 };
 
-bool listed(const std::vector<int>& list, std::size_t index) {
-    return list.empty() || std::find(list.begin(), list.end(), int(index + 1)) != list.end();
-}
-
 std::vector<int> activeList(const std::vector<int>& list, std::size_t count) {
     std::vector<int> out;
     for (std::size_t n = 0; n < count; ++n)
         if (listed(list, n)) out.push_back(int(n + 1));
     return out;
+}
+
+/// The cave (channel voxels) above and below `table` (none: all below) into `prec`: counts,
+/// bounding boxes and the mean count above per z-slice that holds any.
+void caveAroundTable(const Domain& dom, const std::vector<double>* table, Stage2PhaseRecord& prec) {
+    const Dims& d = dom.dims;
+    const auto grow = [](std::array<int, 3>& lo, std::array<int, 3>& hi, long& count, const std::array<int, 3>& p) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            lo[c] = count == 0 ? p[c] : std::min(lo[c], p[c]);
+            hi[c] = count == 0 ? p[c] : std::max(hi[c], p[c]);
+        }
+        ++count;
+    };
+    long slices = 0;
+    for (int k = 0; k < d.nz; ++k) {
+        const long aboveBefore = prec.caveAbove;
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                if (!(dom.flags[d.index(i, j, k)] & kChannel)) continue;
+                if (table && isVadose(d, *table, i, j, k))
+                    grow(prec.aboveLo, prec.aboveHi, prec.caveAbove, {i, j, k});
+                else
+                    grow(prec.belowLo, prec.belowHi, prec.caveBelow, {i, j, k});
+            }
+        if (prec.caveAbove > aboveBefore) ++slices;
+    }
+    prec.aboveSliceMean = slices > 0 ? double(prec.caveAbove) / double(slices) : 0.0;
 }
 
 }  // namespace
@@ -951,8 +990,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     }
     const bool phased = !g.phases.empty() || gravity;  // else the paper's model, unchanged
     if (phased && (checkpoints.resume || checkpoints.every > 0))
-        throw InputError("checkpoints are not available yet for runs with a water table ([hydrology]) or [[phase]] "
-                         "entries: run without --checkpoint-every");
+        throw InputError(
+            "checkpoints are not available yet for runs with a water table ([hydrology]) or [[phase]] "
+            "entries: run without --checkpoint-every");
 
     if (checkpoints.resume) {
         decodeCarry(*checkpoints.resume, checkpoints.resumeName, c, dom);
@@ -1026,23 +1066,10 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 if (phaseIndex > 0 || !ph.sinks.empty()) {
                     const Stopwatch tp;
                     rate = rateField(dom, g);
-                    std::vector<fastmarch::Seed> seeds;
-                    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
-                        if (listed(ph.sinks, si))
-                            for (std::size_t v : dom.sinkVoxels[si]) seeds.push_back({v, 0.0, 0});
-                    pressure.solve(d, rate, seeds, res.pressureCap, fastmarch::Stencil::kAvalanche26);
+                    pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap,
+                                   fastmarch::Stencil::kAvalanche26);
                     res.pressureSeconds += tp.seconds();
-                    // What is joined to an active sink (only those are searched from).
-                    std::fill(st.reached.begin(), st.reached.end(), false);
-                    std::deque<std::size_t> queue;
-                    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
-                        if (listed(ph.sinks, si))
-                            for (std::size_t v : dom.sinkVoxels[si])
-                                if (!st.reached[v]) {
-                                    st.reached[v] = true;
-                                    queue.push_back(v);
-                                }
-                    spreadThrough(dom, kConducting, queue, st.reached);
+                    reachFromSinks(dom, st, ph.sinks);  // only the active sinks are searched from
                     std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
                 }
                 std::fill(st.waterChanged.begin(), st.waterChanged.end(), std::uint8_t(1));
@@ -1125,34 +1152,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         if (phased) {
             prec.iterations = ph.iterations;
             prec.channelVoxelsEnd = st.channelVoxels;
-            // The cave above and below the phase's table: counts and bounding boxes.
-            const auto grow = [](std::array<int, 3>& lo, std::array<int, 3>& hi, long count, int i, int j, int k) {
-                const std::array<int, 3> p{i, j, k};
-                for (int c = 0; c < 3; ++c) {
-                    lo[std::size_t(c)] =
-                        count == 0 ? p[std::size_t(c)] : std::min(lo[std::size_t(c)], p[std::size_t(c)]);
-                    hi[std::size_t(c)] =
-                        count == 0 ? p[std::size_t(c)] : std::max(hi[std::size_t(c)], p[std::size_t(c)]);
-                }
-            };
-            long slices = 0;
-            for (int k = 0; k < d.nz; ++k) {
-                long inSlice = 0;
-                for (int j = 0; j < d.ny; ++j)
-                    for (int i = 0; i < d.nx; ++i) {
-                        if (!(dom.flags[d.index(i, j, k)] & kChannel)) continue;
-                        if (hasTable && gravity && isVadose(d, table, i, j, k)) {
-                            grow(prec.aboveLo, prec.aboveHi, prec.caveAbove, i, j, k);
-                            ++prec.caveAbove;
-                            ++inSlice;
-                        } else {
-                            grow(prec.belowLo, prec.belowHi, prec.caveBelow, i, j, k);
-                            ++prec.caveBelow;
-                        }
-                    }
-                if (inSlice > 0) ++slices;
-            }
-            prec.aboveSliceMean = slices > 0 ? double(prec.caveAbove) / double(slices) : 0.0;
+            caveAroundTable(dom, hasTable ? &table : nullptr, prec);
             res.phases.push_back(std::move(prec));
         }
     }

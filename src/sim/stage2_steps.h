@@ -209,9 +209,9 @@ double pressureNeeded(Stage2State& state, const Grid3<double>& pressure);
 /// tests; runStage2 uses the incremental `extendReach`.
 std::vector<bool> connectedSources(const Domain& domain);
 
-/// Marks as reached everything joined to a sink through channel, source and sink voxels, from
-/// scratch (startStage2 calls it once).
-void reachFromSinks(const Domain& domain, Stage2State& state);
+/// Marks as reached everything joined to a sink in `sinks` (1-based; empty = all) through channel,
+/// source and sink voxels, from scratch (startStage2 and each phase of runStage2 call it once).
+void reachFromSinks(const Domain& domain, Stage2State& state, const std::vector<int>& sinks = {});
 
 /// Incremental connectivity: the conducting voxels only grow, so after `newConducting` joined them
 /// only what a new voxel touches can become reached: a search from each new voxel that touches a

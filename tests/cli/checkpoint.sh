@@ -38,20 +38,7 @@ same_outputs() {
   else
     fail "$what: files differ: $(cat diff.txt)"
   fi
-  python3 - "$a/report.json" "$b/report.json" <<'PY' && pass "$what: report.json identical but for timings" || fail "$what: report.json differs"
-import json, sys
-def strip(r):
-    r.pop("timing_s", None); r.pop("threads", None)
-    def walk(x):
-        if isinstance(x, dict):
-            return {k: walk(v) for k, v in x.items() if not k.startswith("seconds")}
-        if isinstance(x, list):
-            return [walk(v) for v in x]
-        return x
-    return walk(r)
-a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
-assert a == b
-PY
+  same_report_figures "$a/report.json" "$b/report.json" && pass "$what: report.json identical but for timings" || fail "$what: report.json differs"
   local f timing='(stage 1|stage 2|mesh and pictures|skeleton and report|files for other tools|total)'
   for f in report.md report.html; do
     if [ -f "$a/$f" ] && [ -f "$b/$f" ] && diff <(grep -vE "^\| $timing \||<tr><td>$timing</td>" "$a/$f") <(grep -vE "^\| $timing \||<tr><td>$timing</td>" "$b/$f") >/dev/null; then
