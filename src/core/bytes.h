@@ -52,9 +52,11 @@ private:
 /// Reads what a ByteWriter wrote, checking every size against the bytes left.
 class ByteReader {
 public:
-    /// `shown` names the source in messages ("out/.fig10.checkpoint/checkpoint.cavesim").
-    ByteReader(const char* data, std::size_t size, std::string shown)
-        : data_(data), size_(size), shown_(std::move(shown)) {}
+    /// `shown` names the source in messages ("out/.fig10.checkpoint/checkpoint.cavesim"); `what`
+    /// says what a damaged source is not, and `advice` (if any) follows the reason.
+    ByteReader(const char* data, std::size_t size, std::string shown,
+               std::string what = "damaged or not a file this program wrote", std::string advice = "")
+        : data_(data), size_(size), shown_(std::move(shown)), what_(std::move(what)), advice_(std::move(advice)) {}
 
     template <typename T>
     T get(const char* what) {
@@ -100,14 +102,13 @@ public:
     std::size_t at() const { return at_; }
     /// Throws InputError: `shown` is damaged or not a file this program wrote, and why.
     [[noreturn]] void fail(const std::string& why) const {
-        throw InputError(shown_ + ": damaged or not a file this program wrote (" + why + " at byte " +
-                         std::to_string(at_) + ")");
+        throw InputError(shown_ + ": " + what_ + " (" + why + " at byte " + std::to_string(at_) + ")" + advice_);
     }
 
 private:
     const char* data_;
     std::size_t size_, at_ = 0;
-    std::string shown_;
+    std::string shown_, what_, advice_;
 };
 
 }  // namespace cavesim
