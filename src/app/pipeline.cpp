@@ -224,9 +224,9 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
         writeSectionsPicture(analysis.sections, s.name, imagesDir);
     }
-    if (s.output.images && !s.fractureFamilies.empty())
-        render::writeFracturesPicture(dom, cave.mask, generateFractureNetwork(s.fractureFamilies, dom.dims, s.seed),
-                                      dir.file("images/fractures.png").string(), width);
+    if (!s.fractureFamilies.empty()) rec.fractures = measuredFractureNetwork(s);
+    if (s.output.images && rec.fractures)
+        render::writeFracturesPicture(dom, cave.mask, *rec.fractures, dir.file("images/fractures.png").string(), width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
 

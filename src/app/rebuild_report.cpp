@@ -82,14 +82,11 @@ std::string rebuildReport(const std::string& dirArg) {
         morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected, {}, familyStrikes(s));
     addProtochannelProximity(analysis, dom, s);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.string(), dom.voxelSize, dom.dims);
-    const nlohmann::json a = analysisJson(analysis);
     report["scenario"] = s.name;
     report["grid"] = {s.size[0], s.size[1], s.size[2]};
     report["voxel_size_m"] = s.voxelSize;
     report["seed"] = s.seed;
-    for (const char* k : kAnalysisKeys) report[k] = a[k];
-    if (a.contains("near_protochannels") && report.contains("stage2") && report["stage2"].is_object())
-        report["stage2"]["near_protochannels"] = a["near_protochannels"];
+    putAnalysis(report, analysisJson(analysis));
     if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
     report["timing_s"]["report"] = t0.seconds();
     writeReportFiles(s, report, dir.string());

@@ -228,11 +228,15 @@ nlohmann::json analysisJson(const morpho::CaveAnalysis& a) {
     return j;
 }
 
-/// report.json `fracture_network`: the scenario's discs drawn again (deterministic) and measured.
-static nlohmann::json fractureNetworkJson(const Scenario& s) {
+FractureNetwork measuredFractureNetwork(const Scenario& s) {
     const Dims dims{s.size[0], s.size[1], s.size[2]};
     FractureNetwork net = generateFractureNetwork(s.fractureFamilies, dims, s.seed);
     measureFractureNetwork(net, s.fractureFamilies, dims);
+    return net;
+}
+
+/// report.json `fracture_network`: the measured discs `net` of the scenario.
+static nlohmann::json fractureNetworkJson(const Scenario& s, const FractureNetwork& net) {
     nlohmann::json fams = nlohmann::json::array();
     double p32 = 0;
     for (std::size_t f = 0; f < net.families.size(); ++f) {
@@ -255,6 +259,14 @@ static nlohmann::json fractureNetworkJson(const Scenario& s) {
     return {{"discs", net.discs.size()}, {"p32_per_m", num(p32 / s.voxelSize)}, {"families", fams}};
 }
 
+void putAnalysis(nlohmann::json& report, const nlohmann::json& analysis) {
+    const bool given = analysis.is_object();
+    for (const char* k : kAnalysisKeys)
+        report[k] = given && analysis.contains(k) ? analysis[k] : nlohmann::json(nullptr);
+    if (given && analysis.contains("near_protochannels") && report.contains("stage2") && report["stage2"].is_object())
+        report["stage2"]["near_protochannels"] = analysis["near_protochannels"];
+}
+
 nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec) {
     nlohmann::json j;
     j["scenario"] = s.name;
@@ -273,15 +285,12 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["stage2"] =
         rec.stage2 ? stage2Json(*rec.stage2, s.voxelSize * s.voxelSize * s.voxelSize) : nlohmann::json(nullptr);
     if (rec.stage2 && rec.connectedAtStart) j["stage2"]["connected_at_start"] = *rec.connectedAtStart;
-    if (rec.stage2 && rec.analysis.is_object() && rec.analysis.contains("near_protochannels"))
-        j["stage2"]["near_protochannels"] = rec.analysis["near_protochannels"];
-    for (const char* k : kAnalysisKeys)
-        j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
+    putAnalysis(j, rec.analysis);
     j["mesh"] = rec.mesh;
     if (!rec.speleothems.is_null()) j["speleothems"] = rec.speleothems;
     j["files"] = rec.files;
     j["exports"] = rec.exports;
-    if (!s.fractureFamilies.empty()) j["fracture_network"] = fractureNetworkJson(s);
+    if (rec.fractures) j["fracture_network"] = fractureNetworkJson(s, *rec.fractures);
     if (!s.recharge.empty()) {
         std::vector<std::size_t> perEntry;
         const std::vector<SourceSpec> inputs = rechargeSources(s, &perEntry);

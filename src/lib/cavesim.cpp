@@ -571,6 +571,7 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     report.seed = s.seed;
     report.threads = threads;
     report.timing = {rec.timing.stage1, rec.timing.stage2, rec.timing.mesh, rec.timing.report, rec.timing.total};
+    if (!s.fractureFamilies.empty()) rec.fractures = app::measuredFractureNetwork(s);
     report.json = app::buildReportJson(s, dom, rec).dump(2);
     out->porosity = app::recordedPorosity(dom, s, app::StateMoment::kFinal);
     out->caveMask = cave.mask;

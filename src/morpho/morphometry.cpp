@@ -14,6 +14,7 @@
 
 #include "core/check.h"
 #include "morpho/graph_metrics.h"
+#include "morpho/skeleton.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -57,47 +58,6 @@ Polygon planHull(const std::vector<int>& rowMin, const std::vector<int>& rowMax)
     return hull;
 }
 
-/// Squared Euclidean distance transform of one row (Felzenszwalb & Huttenlocher 2012): f holds 0
-/// at the seeds and a large value elsewhere; returns min_q f(q) + (p − q)².
-std::vector<double> distanceTransform1d(const std::vector<double>& f) {
-    const int n = int(f.size());
-    std::vector<double> d(f.size());
-    std::vector<int> v(f.size());
-    std::vector<double> z(f.size() + 1);
-    int k = 0;
-    v[0] = 0;
-    z[0] = -std::numeric_limits<double>::infinity();
-    z[1] = std::numeric_limits<double>::infinity();
-    for (int q = 1; q < n; ++q) {
-        double sv = 0;
-        while (true) {
-            const int p = v[std::size_t(k)];
-            sv = ((f[std::size_t(q)] + double(q) * q) - (f[std::size_t(p)] + double(p) * p)) / (2.0 * (q - p));
-            if (sv <= z[std::size_t(k)] && k > 0) {
-                --k;
-                continue;
-            }
-            break;
-        }
-        if (sv <= z[std::size_t(k)]) {  // k == 0: the new parabola replaces the first
-            v[0] = q;
-            z[1] = std::numeric_limits<double>::infinity();
-            continue;
-        }
-        ++k;
-        v[std::size_t(k)] = q;
-        z[std::size_t(k)] = sv;
-        z[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
-    }
-    k = 0;
-    for (int q = 0; q < n; ++q) {
-        while (z[std::size_t(k) + 1] < q) ++k;
-        const int p = v[std::size_t(k)];
-        d[std::size_t(q)] = double(q - p) * double(q - p) + f[std::size_t(p)];
-    }
-    return d;
-}
-
 /// Cells (cell units) of the optimised field: cells of the plan's bounding box whose centre lies
 /// within `margin` cells of the centre of a plan cell and inside or on the hull.
 long optimisedFieldCells(const std::vector<char>& column, int nx, int iMin, int iMax, int jMin, int jMax, double margin,
@@ -105,18 +65,20 @@ long optimisedFieldCells(const std::vector<char>& column, int nx, int iMin, int 
     const int w = iMax - iMin + 1, hgt = jMax - jMin + 1;
     const double big = double(w) * w + double(hgt) * hgt + 1.0;
     std::vector<double> dist(std::size_t(w) * std::size_t(hgt));
-    std::vector<double> line;
+    std::vector<double> line, d(std::size_t(std::max(w, hgt)));
+    std::vector<int> vtx;
+    std::vector<double> z;
     for (int j = 0; j < hgt; ++j) {  // rows
         line.assign(std::size_t(w), big);
         for (int i = 0; i < w; ++i)
             if (column[std::size_t(i + iMin) + std::size_t(nx) * std::size_t(j + jMin)]) line[std::size_t(i)] = 0;
-        const std::vector<double> d = distanceTransform1d(line);
+        envelope1d(line.data(), w, d.data(), vtx, z);
         for (int i = 0; i < w; ++i) dist[std::size_t(i) + std::size_t(w) * std::size_t(j)] = d[std::size_t(i)];
     }
     for (int i = 0; i < w; ++i) {  // columns
         line.resize(std::size_t(hgt));
         for (int j = 0; j < hgt; ++j) line[std::size_t(j)] = dist[std::size_t(i) + std::size_t(w) * std::size_t(j)];
-        const std::vector<double> d = distanceTransform1d(line);
+        envelope1d(line.data(), hgt, d.data(), vtx, z);
         for (int j = 0; j < hgt; ++j) dist[std::size_t(i) + std::size_t(w) * std::size_t(j)] = d[std::size_t(j)];
     }
     const double m2 = margin * margin;

@@ -164,8 +164,7 @@ PatternResult classifyPattern(const Skeleton& skeleton, const GraphMetrics& metr
     for (const auto& e : skeleton.edges) {
         const SkeletonNode& a = skeleton.nodes[std::size_t(e[0])];
         const SkeletonNode& b = skeleton.nodes[std::size_t(e[1])];
-        const Vec3d d{b.position[0] - a.position[0], b.position[1] - a.position[1], b.position[2] - a.position[2]};
-        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        const double len = distance(a.position, b.position);
         if (!(len > 0)) continue;
         const double s = 0.5 * ((a.position[0] + b.position[0]) * n[0] + (a.position[1] + b.position[1]) * n[1] +
                                 (a.position[2] + b.position[2]) * n[2]);

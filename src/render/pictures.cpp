@@ -7,6 +7,7 @@
 #include <map>
 
 #include "core/check.h"
+#include "core/vec3.h"
 #include "render/colormap.h"
 #include "render/png_io.h"
 #include "render/view.h"
@@ -390,9 +391,9 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
         // Two unit vectors in the disc's plane.
         const Vec3d& n = disc.normal;
         Vec3d e1 = std::abs(n[2]) < 0.9 ? Vec3d{-n[1], n[0], 0.0} : Vec3d{0.0, -n[2], n[1]};
-        const double l1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+        const double l1 = norm(e1);
         for (double& c : e1) c /= l1;
-        const Vec3d e2{n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+        const Vec3d e2 = cross(n, e1);
         std::vector<std::pair<double, double>> rim;
         constexpr int kSides = 36;
         for (int s = 0; s < kSides; ++s) {
