@@ -238,10 +238,7 @@ void validateRecharge(const Scenario& s) {
         }
         for (const SourceSpec& src : part)
             for (std::size_t j = 0; j < s.sinks.size(); ++j) {
-                const VoxelBox& b = s.sinks[j].box;
-                bool overlap = true;
-                for (int c = 0; c < 3; ++c) overlap = overlap && src.box.lo[c] <= b.hi[c] && b.lo[c] <= src.box.hi[c];
-                if (overlap)
+                if (boxesOverlap(src.box, s.sinks[j].box))
                     fail(s, r.line, &r.kind, "(entry " + std::to_string(e + 1) + ")",
                          "an input at [" + std::to_string(src.box.lo[0]) + ", " + std::to_string(src.box.lo[1]) + ", " +
                              std::to_string(src.box.lo[2]) + "] overlaps [[sink]] entry " + std::to_string(j + 1) +

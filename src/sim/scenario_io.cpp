@@ -547,12 +547,6 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
     r.finish(known);
 }
 
-bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
-    for (int c = 0; c < 3; ++c)
-        if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
-    return true;
-}
-
 std::string where(const Scenario& s, int line) {
     return s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
 }
@@ -616,6 +610,12 @@ void validateHydrology(const Scenario& s) {
 }
 
 }  // namespace
+
+bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
+    for (int c = 0; c < 3; ++c)
+        if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
+    return true;
+}
 
 void validateScenario(const Scenario& s) {
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
