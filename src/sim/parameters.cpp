@@ -32,6 +32,10 @@ struct P : Param {
         example = std::move(ex);
         return std::move(*this);
     }
+    P&& isNonZero() && {
+        nonZero = true;
+        return std::move(*this);
+    }
     P&& items(std::size_t lo, std::size_t hi) && {
         minItems = lo;
         maxItems = hi;
@@ -316,7 +320,9 @@ std::vector<P> planeSlabParams(const std::string& what, const char* normalDoc, c
         real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), ("a point on the " + what).c_str())
             .unitIs("voxels")
             .isRequired("[30.0, 30.0, 10.0]"),
-        real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), normalDoc).rangeShown("each [-10⁶, 10⁶], non-zero"),
+        real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), normalDoc)
+            .rangeShown("each [-10⁶, 10⁶], non-zero")
+            .isNonZero(),
         real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), ("slab thickness across the " + what).c_str())
             .unitIs("voxels"),
         real("porosity", &PlaneFeature::porosity, rng(0, 1), porosityDoc),

@@ -449,10 +449,7 @@ void readValue(TableReader& r, const ParamSection& section, const Param& p, cons
         case ParamType::kReal3: {
             const Vec3d v = r.toVec3(key, *n, lo, hi);
             p.set(record, std::vector<double>(v.begin(), v.end()));
-            if ((&p == &entryOf([](Scenario& s) { return &s.planes[0].normal; }) ||
-                 &p == &entryOf([](Scenario& s) { return &s.inceptionHorizons[0].normal; })) &&
-                std::hypot(v[0], v[1], v[2]) < 1e-9)
-                r.fail(key, n, "must not be zero");
+            if (p.nonZero && std::hypot(v[0], v[1], v[2]) < 1e-9) r.fail(key, n, "must not be zero");
             break;
         }
         case ParamType::kReal3List: {
