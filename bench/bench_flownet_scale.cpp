@@ -2,62 +2,20 @@
 // writes the same scenario as a file), stage 1 alone — zones, flow networks, max flow, tracing —
 // with its wall time, the CPU time of the process, and the rise of resident memory during the
 // stage (VmHWM after `clear_refs` 5) per voxel of the largest zone's network.
-#include <sys/resource.h>
-
 #include <algorithm>
-#include <cstring>
-#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
-#include "sim/scenario_io.h"
+#include "bench_scale_util.h"
 #include "sim/stage1.h"
 
 namespace {
 
 using namespace cavesim;
-
-/// Figure 10 scaled by k (as bench_sim_scale.cpp and bench/fig10_scaled.py).
-Scenario scaledFig10(int k) {
-    Scenario s = defaultScenario();
-    s.name = "fig10_k" + std::to_string(k);
-    s.size = {60 * k, 60 * k, 20 * k};
-    s.noise.scale *= k;
-    for (auto& o : s.spheres) {
-        for (auto& c : o.center) c *= k;
-        o.radius *= k;
-    }
-    for (auto& src : s.sources)
-        for (int a = 0; a < 3; ++a) {
-            src.box.lo[std::size_t(a)] *= k;
-            src.box.hi[std::size_t(a)] *= k;
-        }
-    for (auto& sink : s.sinks)
-        for (int a = 0; a < 3; ++a) {
-            sink.box.lo[std::size_t(a)] *= k;
-            sink.box.hi[std::size_t(a)] *= k;
-        }
-    s.stage2.iterations *= k;
-    validateScenario(s);
-    return s;
-}
-
-double statusKb(const char* key) {
-    std::ifstream f("/proc/self/status");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind(key, 0) == 0) return std::stod(line.substr(std::strlen(key)));
-    return 0;
-}
-
-double cpuSeconds() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return double(u.ru_utime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec);
-}
+using namespace cavesim::bench;
 
 void BM_Stage1ScaledFig10(benchmark::State& state) {
     const Scenario s = scaledFig10(int(state.range(0)));
@@ -70,7 +28,7 @@ void BM_Stage1ScaledFig10(benchmark::State& state) {
         state.PauseTiming();
         Domain d = built;
         Rng rng = after;
-        std::ofstream("/proc/self/clear_refs") << "5";
+        resetPeak();
         before = statusKb("VmRSS:");
         const double c0 = cpuSeconds();
         state.ResumeTiming();

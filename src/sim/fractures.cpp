@@ -16,6 +16,22 @@ Eigen::Vector3d eig(const Vec3d& v) {
     return {v[0], v[1], v[2]};
 }
 
+/// rasteriseDisc, and with `inception` also sets the slab's voxels to 1 there, in the same walk.
+long rasteriseSlab(const FractureDisc& disc, double thickness, float porosity, Grid3<float>& porosityGrid,
+                   Grid3<std::uint8_t>& flags, Grid3<std::uint8_t>* inception) {
+    long midPlane = 0;
+    forEachDiscVoxel(disc, thickness, porosityGrid.dims, [&](int i, int j, int k, double h, bool inDisc) {
+        if (!inDisc) return;
+        if (std::abs(h) <= 0.5) ++midPlane;
+        if (std::abs(h) > 0.5 * thickness) return;
+        float& R = porosityGrid.at(i, j, k);
+        R = std::max(R, porosity);
+        flags.at(i, j, k) |= kFracture;
+        if (inception) inception->at(i, j, k) = 1;
+    });
+    return midPlane;
+}
+
 }  // namespace
 
 Vec3d poleFromOrientation(double dipDirection, double dip) {
@@ -141,17 +157,7 @@ FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& famil
 
 long rasteriseDisc(const FractureDisc& disc, double thickness, float porosity, Grid3<float>& porosityGrid,
                    Grid3<std::uint8_t>& flags) {
-    long midPlane = 0;
-    const Dims& dims = porosityGrid.dims;
-    forEachDiscVoxel(disc, thickness, dims, [&](int i, int j, int k, double h, bool inDisc) {
-        if (!inDisc) return;
-        if (std::abs(h) <= 0.5) ++midPlane;
-        if (std::abs(h) > 0.5 * thickness) return;
-        float& R = porosityGrid.at(i, j, k);
-        R = std::max(R, porosity);
-        flags.at(i, j, k) |= kFracture;
-    });
-    return midPlane;
+    return rasteriseSlab(disc, thickness, porosity, porosityGrid, flags, nullptr);
 }
 
 void measureFractureNetwork(FractureNetwork& net, const std::vector<FractureFamily>& families, const Dims& dims) {
@@ -171,14 +177,11 @@ void measureFractureNetwork(FractureNetwork& net, const std::vector<FractureFami
 }
 
 void applyFractureNetwork(Domain& dom, const FractureNetwork& net, const std::vector<FractureFamily>& families) {
+    // A fracture is an early-flow path like an inception horizon: mark its slab for stage 2.
+    Grid3<std::uint8_t>* early = dom.inception.data.empty() ? nullptr : &dom.inception;
     for (const FractureDisc& d : net.discs) {
         const FractureFamily& f = families[std::size_t(d.family)];
-        rasteriseDisc(d, f.aperture, float(f.porosity), dom.porosity, dom.flags);
-        // A fracture is an early-flow path like an inception horizon: mark its slab for stage 2.
-        if (dom.inception.data.empty()) continue;
-        forEachDiscVoxel(d, f.aperture, dom.porosity.dims, [&](int i, int j, int k, double h, bool inDisc) {
-            if (inDisc && std::abs(h) <= 0.5 * f.aperture) dom.inception.at(i, j, k) = 1;
-        });
+        rasteriseSlab(d, f.aperture, float(f.porosity), dom.porosity, dom.flags, early);
     }
 }
 

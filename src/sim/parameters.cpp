@@ -32,6 +32,10 @@ struct P : Param {
         example = std::move(ex);
         return std::move(*this);
     }
+    P&& isNonZero() && {
+        nonZero = true;
+        return std::move(*this);
+    }
     P&& items(std::size_t lo, std::size_t hi) && {
         minItems = lo;
         maxItems = hi;
@@ -309,6 +313,24 @@ SpeleothemOptions* speleothems(Scenario& s) {
     return &s.speleothems;
 }
 
+/// The fields of a slab of raised porosity around a plane ([[rock.plane]], [[rock.inception_horizon]]);
+/// `what` names the plane in the descriptions of `point` and `thickness`.
+std::vector<P> planeSlabParams(const std::string& what, const char* normalDoc, const char* porosityDoc) {
+    return {
+        real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), ("a point on the " + what).c_str())
+            .unitIs("voxels")
+            .isRequired("[30.0, 30.0, 10.0]"),
+        real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), normalDoc)
+            .rangeShown("each [-10⁶, 10⁶], non-zero")
+            .isNonZero(),
+        real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), ("slab thickness across the " + what).c_str())
+            .unitIs("voxels"),
+        real("porosity", &PlaneFeature::porosity, rng(0, 1), porosityDoc),
+        real("extent", &PlaneFeature::extent, rng(0, 1e6), "in-plane radius around `point`; 0 = unbounded")
+            .unitIs("voxels"),
+    };
+}
+
 std::vector<ParamSection> makeRegistry() {
     using PM = ProtosinkMode;
     using ZS = ZoneSpeed;
@@ -397,23 +419,13 @@ std::vector<ParamSection> makeRegistry() {
                    }));
     sphere.prose = "At most 4096 spheres.";
 
-    ParamSection& plane = r.emplace_back(tableArray(
-        "rock.plane", &Scenario::planes, 1024, "bedding planes and fractures",
-        {
-            real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), "a point on the plane")
-                .unitIs("voxels")
-                .isRequired("[30.0, 30.0, 10.0]"),
-            real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), "plane normal (need not be unit length)")
-                .rangeShown("each [-10⁶, 10⁶], non-zero"),
-            real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), "slab thickness across the plane")
-                .unitIs("voxels"),
-            real("porosity", &PlaneFeature::porosity, rng(0, 1),
-                 "porosity inside the slab (the larger of this and the rock's)"),
-            real("extent", &PlaneFeature::extent, rng(0, 1e6), "in-plane radius around `point`; 0 = unbounded")
-                .unitIs("voxels"),
-            choice("kind", &PlaneFeature::kind, {{"bedding", int(PK::kBedding)}, {"fracture", int(PK::kFracture)}},
-                   "both set the fracture flag; the name is kept in the report"),
-        }));
+    std::vector<P> planeParams = planeSlabParams("plane", "plane normal (need not be unit length)",
+                                                 "porosity inside the slab (the larger of this and the rock's)");
+    planeParams.push_back(choice("kind", &PlaneFeature::kind,
+                                 {{"bedding", int(PK::kBedding)}, {"fracture", int(PK::kFracture)}},
+                                 "both set the fracture flag; the name is kept in the report"));
+    ParamSection& plane = r.emplace_back(
+        tableArray("rock.plane", &Scenario::planes, 1024, "bedding planes and fractures", std::move(planeParams)));
     plane.prose = "A slab of raised porosity around a plane of any orientation. At most 1024 planes.";
 
     ParamSection& channel = r.emplace_back(tableArray(
@@ -438,20 +450,9 @@ std::vector<ParamSection> makeRegistry() {
 
     ParamSection& inception = r.emplace_back(tableArray(
         "rock.inception_horizon", &Scenario::inceptionHorizons, 64, "inception horizons: bedding planes of early flow",
-        {
-            real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), "a point on the horizon")
-                .unitIs("voxels")
-                .isRequired("[30.0, 30.0, 10.0]"),
-            real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), "normal of the horizon (need not be unit length)")
-                .rangeShown("each [-10⁶, 10⁶], non-zero"),
-            real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), "slab thickness across the horizon")
-                .unitIs("voxels"),
-            real("porosity", &PlaneFeature::porosity, rng(0, 1),
-                 "porosity inside the slab (the larger of this and the rock's): stage-1 capacity and zone speed "
-                 "follow it"),
-            real("extent", &PlaneFeature::extent, rng(0, 1e6), "in-plane radius around `point`; 0 = unbounded")
-                .unitIs("voxels"),
-        }));
+        planeSlabParams("horizon", "normal of the horizon (need not be unit length)",
+                        "porosity inside the slab (the larger of this and the rock's): stage-1 capacity and zone "
+                        "speed follow it")));
     inception.prose =
         "A bedding plane that is an inception horizon (Lowe 1992; KarstNSim): a slab like `[[rock.plane]]`\n"
         "whose voxels also carry early flow in stage 2. Stage 1 sees its porosity (a higher edge capacity and\n"

@@ -66,6 +66,7 @@ struct Param {
     std::string description;  ///< one line
     std::vector<ParamChoice> choices;
     bool required = false;
+    bool nonZero = false;                    ///< a vector: the zero vector is refused ("must not be zero")
     std::size_t minItems = 0, maxItems = 0;  ///< lists: bounds on the number of elements (0 = none)
     std::string shapeText;                   ///< lists and names: what the value must be, for messages ("must be …")
     std::string example;                     ///< TOML value used by the example scenario for a required key

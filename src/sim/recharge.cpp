@@ -27,10 +27,6 @@ constexpr std::size_t kMaxSources = 256;
     throw InputError(os.str());
 }
 
-std::string numberText(double v) {
-    return shortestText(v);
-}
-
 std::string intsText(const std::vector<int>& v) {
     std::string out = "[";
     for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + std::to_string(v[i]);
@@ -40,8 +36,8 @@ std::string intsText(const std::vector<int>& v) {
 std::string pointsText(const std::vector<Vec3d>& v) {
     std::string out = "[";
     for (std::size_t i = 0; i < v.size() && i < 3; ++i)
-        out += std::string(i ? ", " : "") + "[" + numberText(v[i][0]) + ", " + numberText(v[i][1]) + ", " +
-               numberText(v[i][2]) + "]";
+        out += std::string(i ? ", " : "") + "[" + shortestText(v[i][0]) + ", " + shortestText(v[i][1]) + ", " +
+               shortestText(v[i][2]) + "]";
     return out + (v.size() > 3 ? ", ...]" : "]");
 }
 
@@ -207,8 +203,8 @@ void validateRecharge(const Scenario& s) {
             const double cells =
                 std::ceil((a.x1 - a.x0 + 1) / r.spacing - 1e-9) * std::ceil((a.y1 - a.y0 + 1) / r.spacing - 1e-9);
             if (double(total) + cells > double(kMaxSources))
-                fail(s, r.line, &r.spacing, numberText(r.spacing),
-                     "gives " + numberText(cells) +
+                fail(s, r.line, &r.spacing, shortestText(r.spacing),
+                     "gives " + shortestText(cells) +
                          " inputs; with the [[source]] entries and the recharge before it "
                          "that is more than the " +
                          std::to_string(kMaxSources) +
@@ -228,7 +224,8 @@ void validateRecharge(const Scenario& s) {
         if (total > kMaxSources) {
             const void* field = r.kind == RechargeKind::kSinkholes ? static_cast<const void*>(&r.count)
                                                                    : static_cast<const void*>(&r.spacing);
-            fail(s, r.line, field, r.kind == RechargeKind::kSinkholes ? std::to_string(r.count) : numberText(r.spacing),
+            fail(s, r.line, field,
+                 r.kind == RechargeKind::kSinkholes ? std::to_string(r.count) : shortestText(r.spacing),
                  "gives " + std::to_string(part.size()) +
                      " inputs; with the [[source]] entries and the recharge "
                      "before it that is " +
@@ -238,10 +235,7 @@ void validateRecharge(const Scenario& s) {
         }
         for (const SourceSpec& src : part)
             for (std::size_t j = 0; j < s.sinks.size(); ++j) {
-                const VoxelBox& b = s.sinks[j].box;
-                bool overlap = true;
-                for (int c = 0; c < 3; ++c) overlap = overlap && src.box.lo[c] <= b.hi[c] && b.lo[c] <= src.box.hi[c];
-                if (overlap)
+                if (boxesOverlap(src.box, s.sinks[j].box))
                     fail(s, r.line, &r.kind, "(entry " + std::to_string(e + 1) + ")",
                          "an input at [" + std::to_string(src.box.lo[0]) + ", " + std::to_string(src.box.lo[1]) + ", " +
                              std::to_string(src.box.lo[2]) + "] overlaps [[sink]] entry " + std::to_string(j + 1) +
@@ -257,34 +251,35 @@ void validateFractureFamilies(const Scenario& s) {
         std::to_string(dims.nx) + " × " + std::to_string(dims.ny) + " × " + std::to_string(dims.nz) + " voxels";
     for (const FractureFamily& f : s.fractureFamilies) {
         if (f.minLength > longest)
-            fail(s, f.line, &f.minLength, numberText(f.minLength),
+            fail(s, f.line, &f.minLength, shortestText(f.minLength),
                  "the fracture family cannot fit: its smallest fracture is longer than the block's longest side (" +
                      block + "): must be in (0, " + std::to_string(longest) + "]");
         if (f.minLength > f.maxLength)
-            fail(s, f.line, &f.minLength, numberText(f.minLength),
-                 "must be at most max_length (" + numberText(f.maxLength) + ")");
+            fail(s, f.line, &f.minLength, shortestText(f.minLength),
+                 "must be at most max_length (" + shortestText(f.maxLength) + ")");
         if (f.spacing > 0 && f.density > 0)
-            fail(s, f.line, &f.density, numberText(f.density),
-                 "give spacing or density, not both: set one of them to 0 (spacing = " + numberText(f.spacing) + ")");
+            fail(s, f.line, &f.density, shortestText(f.density),
+                 "give spacing or density, not both: set one of them to 0 (spacing = " + shortestText(f.spacing) + ")");
         if (!(f.spacing > 0) && !(f.density > 0))
-            fail(s, f.line, &f.spacing, numberText(f.spacing), "give spacing > 0 or density > 0");
+            fail(s, f.line, &f.spacing, shortestText(f.spacing), "give spacing > 0 or density > 0");
         if (f.spacing > longest)
-            fail(s, f.line, &f.spacing, numberText(f.spacing),
+            fail(s, f.line, &f.spacing, shortestText(f.spacing),
                  "the fracture family cannot fit: its spacing is larger than the block (" + block +
                      "): must be in (0, " + std::to_string(longest) + "]");
         const double count = fractureCount(f, dims);
         const void* field = f.density > 0 ? static_cast<const void*>(&f.density) : static_cast<const void*>(&f.spacing);
-        const std::string value = numberText(f.density > 0 ? f.density : f.spacing);
+        const std::string value = shortestText(f.density > 0 ? f.density : f.spacing);
         if (count < 1)
             fail(s, f.line, field, value,
                  "the fracture family cannot fit: it gives no fracture in the block (" + block +
                      ", mean disc diameter about " +
-                     numberText(
+                     shortestText(
                          std::sqrt(meanDiscArea(f.lengthExponent, f.minLength, f.maxLength) * 4 / 3.14159265358979)) +
                      " voxels): lower spacing or raise density");
         if (count > 1e6)
-            fail(s, f.line, field, value,
-                 "gives " + numberText(count) + " fractures, at most 10⁶ are allowed: raise spacing or lower density");
+            fail(
+                s, f.line, field, value,
+                "gives " + shortestText(count) + " fractures, at most 10⁶ are allowed: raise spacing or lower density");
     }
 }
 

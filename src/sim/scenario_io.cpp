@@ -449,10 +449,7 @@ void readValue(TableReader& r, const ParamSection& section, const Param& p, cons
         case ParamType::kReal3: {
             const Vec3d v = r.toVec3(key, *n, lo, hi);
             p.set(record, std::vector<double>(v.begin(), v.end()));
-            if ((&p == &entryOf([](Scenario& s) { return &s.planes[0].normal; }) ||
-                 &p == &entryOf([](Scenario& s) { return &s.inceptionHorizons[0].normal; })) &&
-                std::hypot(v[0], v[1], v[2]) < 1e-9)
-                r.fail(key, n, "must not be zero");
+            if (p.nonZero && std::hypot(v[0], v[1], v[2]) < 1e-9) r.fail(key, n, "must not be zero");
             break;
         }
         case ParamType::kReal3List: {
@@ -547,12 +544,6 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
     r.finish(known);
 }
 
-bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
-    for (int c = 0; c < 3; ++c)
-        if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
-    return true;
-}
-
 std::string where(const Scenario& s, int line) {
     return s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
 }
@@ -616,6 +607,12 @@ void validateHydrology(const Scenario& s) {
 }
 
 }  // namespace
+
+bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
+    for (int c = 0; c < 3; ++c)
+        if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
+    return true;
+}
 
 void validateScenario(const Scenario& s) {
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });

@@ -44,6 +44,11 @@ struct Frame {
 };
 constexpr std::array<Frame, 4> kFrames{{{false, false}, {true, false}, {false, true}, {true, true}}};
 
+/// The position of `f` in kFrames.
+std::size_t frameIndex(Frame f) {
+    return std::size_t(f.flipX) + 2 * std::size_t(f.flipY);
+}
+
 /// Voxel `v` of the grid seen in frame `f` (and back: the map is an involution).
 std::size_t inFrame(const Dims& d, std::size_t v, Frame f) {
     Index3 p = d.coord(v);
@@ -344,8 +349,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
         const std::vector<Vec3d> noAim;
         w.frame = canonicalFrame(d, role, domain.porosity, g.protosinks == ProtosinkMode::kClustered ? g.aim : noAim);
         for (std::size_t v : w.voxels) role[v] = kOutside;
-        for (std::size_t f = 0; f < kFrames.size(); ++f)
-            if (kFrames[f].flipX == w.frame.flipX && kFrames[f].flipY == w.frame.flipY) frameUsed[f] = true;
+        frameUsed[frameIndex(w.frame)] = true;
         w.voxels = listInFrame(d, w.voxels, w.frame);
         w.sources = listInFrame(d, w.sources, w.frame);
         candidates = listInFrame(d, candidates, w.frame);
@@ -374,7 +378,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     for (std::size_t f = 1; f < kFrames.size(); ++f)
         if (frameUsed[f]) framePorosity[f] = gridInFrame(domain.porosity, kFrames[f]);
     const auto porosityIn = [&](Frame fr) -> const Grid3<float>& {
-        const std::size_t f = std::size_t(fr.flipX) + 2 * std::size_t(fr.flipY);
+        const std::size_t f = frameIndex(fr);
         return f == 0 ? domain.porosity : framePorosity[f];
     };
 

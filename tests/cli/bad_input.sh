@@ -36,26 +36,26 @@ expect_exit 2 "stage 2 without sinks" -- "$CAVESIM" run nosink.toml --out o4
 stderr_has "stage 2 needs at least one [[sink]]"
 
 # Water table and phases (the small scenario is 12 voxels tall, with one sink).
-{ cat good.toml; printf '[hydrology]\nwater_table = 12\n'; } > table_high.toml
-expect_exit 2 "water table above the block" -- "$CAVESIM" run table_high.toml --out o8
+# refused_after_good NAME WHAT TEXT: good.toml with TEXT (printf format) appended, as NAME.toml, is refused by
+# `run` with exit 2 (the output folder o8 is checked at the end).
+refused_after_good() {
+  { cat good.toml; printf "$3"; } > "$1.toml"
+  expect_exit 2 "$2" -- "$CAVESIM" run "$1.toml" --out o8
+}
+refused_after_good table_high "water table above the block" '[hydrology]\nwater_table = 12\n'
 stderr_has "table_high.toml:21: key 'hydrology.water_table' = 12: a water table must lie in the block, 0 to nz - 1 = 11"
 printf 'phase = []\n' | cat - good.toml > phase_empty.toml
 expect_exit 2 "empty phase list" -- "$CAVESIM" run phase_empty.toml --out o8
 stderr_has "phase_empty.toml:1: key 'phase' = []: an empty list"
-{ cat good.toml; printf '[[phase]]\niterations = 0\n'; } > phase_zero.toml
-expect_exit 2 "phase with zero iterations" -- "$CAVESIM" run phase_zero.toml --out o8
+refused_after_good phase_zero "phase with zero iterations" '[[phase]]\niterations = 0\n'
 stderr_has "phase.iterations' = 0"
-{ cat good.toml; printf '[[phase]]\niterations = 10\nsinks = [2]\n'; } > phase_sink.toml
-expect_exit 2 "phase sink out of range" -- "$CAVESIM" run phase_sink.toml --out o8
+refused_after_good phase_sink "phase sink out of range" '[[phase]]\niterations = 10\nsinks = [2]\n'
 stderr_has "key 'phase.sinks' (entry 1) names sink 2: the scenario has 1 [[sink]] entries"
-{ cat good.toml; printf '[[phase]]\niterations = 10\nwater_table = -3\n'; } > phase_table.toml
-expect_exit 2 "phase water table below the block" -- "$CAVESIM" run phase_table.toml --out o8
+refused_after_good phase_table "phase water table below the block" '[[phase]]\niterations = 10\nwater_table = -3\n'
 stderr_has "phase.water_table' = -3"
-{ cat good.toml; printf '[[phase]]\niterations = 10\nwater_table = 30\n'; } > phase_high.toml
-expect_exit 2 "phase water table above the block" -- "$CAVESIM" run phase_high.toml --out o8
+refused_after_good phase_high "phase water table above the block" '[[phase]]\niterations = 10\nwater_table = 30\n'
 stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
-{ cat good.toml; printf '[hydrology]\nfrom_site = true\n'; } > table_site.toml
-expect_exit 2 "water table from a site without one" -- "$CAVESIM" run table_site.toml --out o8
+refused_after_good table_site "water table from a site without one" '[hydrology]\nfrom_site = true\n'
 stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
 [ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
 
