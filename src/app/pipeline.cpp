@@ -77,9 +77,12 @@ std::vector<double> familyStrikes(const Scenario& s) {
     return strikes;
 }
 
-morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& dom, const Scenario& s, const RunRecord& rec) {
-    const std::vector<std::optional<int>> connected =
-        rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
+std::vector<std::optional<int>> connectedIterations(const RunRecord& rec) {
+    return rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
+}
+
+morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& dom, const Scenario& s,
+                                const std::vector<std::optional<int>>& connected) {
     morpho::CaveAnalysis a =
         morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected, {}, familyStrikes(s));
     addProtochannelProximity(a, dom, s);
@@ -218,7 +221,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
 
     reportProgress(progress, "report", 0, 1);
     const Stopwatch tr;
-    const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, rec);
+    const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, connectedIterations(rec));
     morpho::writeSkeletonFiles(analysis.skeleton, outDir, dom.voxelSize, dom.dims);
     if (s.output.images) {
         writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
@@ -254,7 +257,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     PipelineResult out;
     if (options.alsoMeasure) {
         const Cave other = makeCave(dom, *options.alsoMeasure);
-        out.alsoMeasured = analysisJson(analyseRun(other, dom, s, rec));
+        out.alsoMeasured = analysisJson(analyseRun(other, dom, s, connectedIterations(rec)));
     }
     out.totalSeconds = t0.seconds();
     if (rec.stage2) out.breakthroughIteration = rec.stage2->breakthroughIteration;

@@ -77,10 +77,14 @@ void runStages(Domain& domain, const Scenario& scenario, Rng& rng, RunRecord& re
 /// dip direction − 90°, for the pattern's family-share criterion (empty without families).
 std::vector<double> familyStrikes(const Scenario& scenario);
 
-/// The cave analysis of a run (morpho::analyseCave): the pressure field and the iterations at which
-/// the sources joined a sink when stage 2 ran.
+/// The cave analysis of a run (morpho::analyseCave with the scenario's fracture strikes and the
+/// protochannel proximity): the pressure field when stage 2 ran, and `connected`, the iterations at
+/// which the sources joined a sink (empty without stage 2).
 morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& domain, const Scenario& scenario,
-                                const RunRecord& record);
+                                const std::vector<std::optional<int>>& connected);
+
+/// The source connection iterations of a run's record (empty without stage 2).
+std::vector<std::optional<int>> connectedIterations(const RunRecord& record);
 
 /// Distance (voxels) within which centreline counts as near a stage-1 protochannel.
 inline constexpr double kNearProtochannelVoxels = 2.0;

@@ -78,9 +78,7 @@ std::string rebuildReport(const std::string& dirArg) {
             connected.push_back(v.is_number_integer() ? std::optional<int>(v.get<int>()) : std::nullopt);
     }
     const Cave cave = makeCave(dom, s.output.cave);
-    morpho::CaveAnalysis analysis =
-        morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected, {}, familyStrikes(s));
-    addProtochannelProximity(analysis, dom, s);
+    const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.string(), dom.voxelSize, dom.dims);
     report["scenario"] = s.name;
     report["grid"] = {s.size[0], s.size[1], s.size[2]};

@@ -535,7 +535,7 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     if (options.analysis) {
         reportProgress(progress, "analysis", 0, 1);
         const Stopwatch tr;
-        const morpho::CaveAnalysis a = app::analyseRun(cave, dom, s, rec);
+        const morpho::CaveAnalysis a = app::analyseRun(cave, dom, s, app::connectedIterations(rec));
         rec.analysis = app::analysisJson(a);
         rec.timing.report = tr.seconds();
         for (const morpho::SkeletonNode& n : a.skeleton.nodes) {
