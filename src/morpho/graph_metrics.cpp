@@ -13,11 +13,11 @@
 #include <tbb/parallel_for.h>
 
 #include "core/check.h"
+#include "core/vec3.h"
 
 namespace cavesim::morpho {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// Fraction of a histogram bin below an edge that still counts in the upper bin (round-off guard).
 constexpr double kBinEdgeTolerance = 1e-9;
 

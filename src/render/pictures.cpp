@@ -397,7 +397,7 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
         std::vector<std::pair<double, double>> rim;
         constexpr int kSides = 36;
         for (int s = 0; s < kSides; ++s) {
-            const double a = 2.0 * 3.14159265358979323846 * s / kSides;
+            const double a = 2.0 * kPi * s / kSides;
             Vec3d p{};
             for (int ax = 0; ax < 3; ++ax)
                 p[ax] = (disc.centre[ax] + 0.5 + disc.radius * (std::cos(a) * e1[ax] + std::sin(a) * e2[ax])) * h;

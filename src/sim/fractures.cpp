@@ -5,11 +5,11 @@
 #include <Eigen/Geometry>
 
 #include "core/check.h"
+#include "core/vec3.h"
 
 namespace cavesim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180.0;
 
 Eigen::Vector3d eig(const Vec3d& v) {

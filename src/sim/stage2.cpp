@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/timer.h"
+#include "core/vec3.h"
 #include "fastmarch/fast_marching.h"
 #include "sim/connectivity.h"
 #include "sim/stage2_checkpoint.h"
@@ -840,7 +841,7 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
 }
 
 std::vector<double> waterTableColumns(const Dims& d, const Hydrology& h, double level) {
-    constexpr double kDegree = 3.14159265358979323846 / 180.0;
+    constexpr double kDegree = kPi / 180.0;
     const double slope = std::tan(h.dip * kDegree);
     const double sx = std::sin(h.dipDirection * kDegree), sy = std::cos(h.dipDirection * kDegree);
     const double cx = 0.5 * double(d.nx - 1), cy = 0.5 * double(d.ny - 1);
