@@ -70,14 +70,39 @@ std::string validateSummary(const std::string& path);
 /// @throw InputError when the folder is not an intact run folder (nothing is rewritten then)
 std::string rebuildReport(const std::string& dir);
 
+/// What `cavesim reproduce` rebuilds.
+enum class ReproduceSet {
+    kPaper,    ///< the paper's figure scenarios: docs/reproduction.md and its pictures
+    kGeology,  ///< the shipped geological settings (app/geology_settings.h): docs/geology_settings.md
+               ///< and docs/images/geology_<setting>.png
+};
+
 struct ReproduceOptions {
-    std::string scenarioDir = "scenarios";
-    std::string outDir = "out/reproduce";
-    std::string docPath = "docs/reproduction.md";
+    ReproduceSet set = ReproduceSet::kPaper;
+    std::string scenarioDir = "scenarios";  ///< folder of the scenario files
+    std::string outDir;                     ///< folder of the runs; empty: reproduceDefaultOut(set)
+    /// Markdown file to write; its folder must exist, the pictures go into `images/` beside it;
+    /// empty: reproduceDefaultDoc(set).
+    std::string docPath;
     int threads = 0;  ///< 0: all cores
 };
 
-/// `cavesim reproduce`: runs the paper's figure scenarios and writes the reproduction document.
+/// The folder of the runs when `--out` is not given: "out/reproduce" (paper), "out/geology".
+std::string reproduceDefaultOut(ReproduceSet set);
+/// The Markdown file when `--doc` is not given: "docs/reproduction.md" (paper),
+/// "docs/geology_settings.md" (geology).
+std::string reproduceDefaultDoc(ReproduceSet set);
+
+/// `cavesim reproduce [paper|geology]`: runs the set's scenarios (each run folder appears whole or
+/// not at all), then writes the pictures into `images/` beside the Markdown file and the file
+/// itself. Every scenario is read and every folder checked before the first run, and nothing is
+/// written into the docs before every run has succeeded; each file there is written whole
+/// (writeFileAtomic).
+/// @throw InputError (nothing written) when the scenario folder or a scenario file is missing or
+///        invalid, the Markdown file's folder does not exist, is not a folder or cannot be written,
+///        the Markdown path is a folder, `images/` beside it is not a folder, or the runs' folder is
+///        refused (OutputDir)
+/// @throw RuntimeError on a failure while running or writing
 void reproduce(const ReproduceOptions& options, const LogFn& log);
 
 }  // namespace cavesim::app

@@ -1,17 +1,24 @@
 // `cavesim reproduce`: runs the paper's figure scenarios and writes docs/reproduction.md with our
-// pictures and numbers beside the paper's descriptions, Table 4 indices and Table 5 timings.
+// pictures and numbers beside the paper's descriptions, Table 4 indices and Table 5 timings;
+// `cavesim reproduce geology` runs the shipped geological settings and writes
+// docs/geology_settings.md with their pictures (app/geology_settings.h).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <sstream>
+
+#include <unistd.h>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
 #include "app/commands.h"
+#include "app/geology_settings.h"
 #include "app/output_dir.h"
 #include "app/pipeline.h"
 #include "app/report.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "morpho/reference_ranges.h"
 #include "sim/parameters.h"
@@ -97,26 +104,146 @@ const nlohmann::json& get(const nlohmann::json& j, std::initializer_list<const c
     return *cur;
 }
 
-}  // namespace
+/// Where a reproduction writes into the docs: the Markdown file and the pictures' folder beside it.
+struct DocTarget {
+    fs::path doc;
+    fs::path imageDir;
+};
 
-void reproduce(const ReproduceOptions& opt, const LogFn& log) {
-    const fs::path scenarios(opt.scenarioDir);
-    if (!fs::is_directory(scenarios))
-        throw InputError(opt.scenarioDir +
-                         ": no such folder of scenarios (run from the repository root or give --scenarios)");
-    // Check every scenario before running any, so a typo costs nothing.
-    std::vector<std::pair<const Figure*, Scenario>> runs;
-    for (const Figure& f : kFigures) {
-        const fs::path p = scenarios / (std::string(f.scenario) + ".toml");
-        if (!fs::exists(p)) throw InputError(p.string() + ": missing figure scenario");
-        runs.push_back({&f, parseScenarioFile(p.string())});
+/// Checks the Markdown file's place before anything runs: its folder exists, is a folder and can
+/// be written; the file is not a folder; `images/` beside it, if there, is a folder that can be
+/// written (it is created at the end when missing).
+/// @throw InputError naming the path and what is wrong
+DocTarget checkedDocTarget(const std::string& docPath) {
+    const fs::path doc(docPath);
+    const fs::path folder = doc.parent_path().empty() ? fs::path(".") : doc.parent_path();
+    const std::string shown = "--doc " + docPath;
+    std::error_code ec;
+    if (doc.filename().empty() || fs::is_directory(doc, ec))
+        throw InputError(shown +
+                         ": is a folder; give the Markdown file to write (its pictures go into images/ beside it)");
+    if (!fs::exists(folder, ec))
+        throw InputError(shown + ": no such folder " + folder.string() +
+                         " (run from the repository root, or give --doc a file in an existing folder)");
+    if (!fs::is_directory(folder, ec)) throw InputError(shown + ": " + folder.string() + " is not a folder");
+    if (::access(folder.c_str(), W_OK | X_OK) != 0)
+        throw InputError(shown + ": the folder " + folder.string() + " cannot be written");
+    const fs::path images = folder / "images";
+    if (fs::exists(fs::symlink_status(images, ec)) || fs::is_symlink(fs::symlink_status(images, ec))) {
+        if (!fs::is_directory(images, ec))
+            throw InputError(shown + ": " + images.string() + " (the pictures' folder) is not a folder");
+        if (::access(images.c_str(), W_OK | X_OK) != 0)
+            throw InputError(shown + ": the pictures' folder " + images.string() + " cannot be written");
     }
+    return {doc, images};
+}
+
+/// A picture to write into the docs' images folder once every run has succeeded.
+struct StagedPicture {
+    std::string name;   ///< file name inside the images folder
+    std::string bytes;  ///< its contents, read from the run folder
+};
+
+/// The output folders of the runs, one per name under `outDir`, each checked (OutputDir) before the
+/// first run starts.
+std::vector<std::unique_ptr<OutputDir>> checkedRunDirs(const std::string& outDir,
+                                                       const std::vector<std::string>& names) {
+    std::vector<std::unique_ptr<OutputDir>> dirs;
+    for (const std::string& n : names) dirs.push_back(std::make_unique<OutputDir>(fs::path(outDir) / n, true));
+    return dirs;
+}
+
+/// Runs `s` into `dir` (staged, renamed into place when complete) and logs its time.
+PipelineResult runInto(const Scenario& s, OutputDir& dir, const PipelineOptions& po, const LogFn& log) {
+    dir.open();
+    PipelineResult res = runPipeline(s, dir, po);
+    dir.commit();
+    char line[160];
+    std::snprintf(line, sizeof line, "reproduce: %s in %.2f s", s.name.c_str(), res.totalSeconds);
+    if (log) log(line);
+    return res;
+}
+
+/// Writes the pictures, then the Markdown file, each whole; the images folder is created when missing.
+/// @throw RuntimeError when a folder or a file cannot be written
+void writeDocs(const DocTarget& target, const std::vector<StagedPicture>& pictures, const std::string& markdown) {
+    std::error_code ec;
+    if (!pictures.empty()) {
+        fs::create_directories(target.imageDir, ec);
+        if (ec) throw RuntimeError("cannot create " + target.imageDir.string() + ": " + ec.message());
+    }
+    for (const StagedPicture& p : pictures) writeFileAtomic((target.imageDir / p.name).string(), p.bytes);
+    writeFileAtomic(target.doc.string(), markdown);
+}
+
+/// Reads the scenarios folder's `<name>.toml`, checked and with `seed` when given.
+/// @throw InputError when it is missing or invalid
+Scenario readScenario(const fs::path& scenarios, const std::string& name, const char* what,
+                      std::optional<std::uint64_t> seed) {
+    const fs::path p = scenarios / (name + ".toml");
+    if (!fs::exists(p)) throw InputError(p.string() + ": missing " + what);
+    RunRequest request;
+    request.scenarioPath = p.string();
+    if (seed) request.seed = std::to_string(*seed);
+    return requestedScenario(request);
+}
+
+void checkScenarioDir(const fs::path& scenarios) {
+    if (!fs::is_directory(scenarios))
+        throw InputError(scenarios.string() +
+                         ": no such folder of scenarios (run from the repository root or give --scenarios)");
+}
+
+void reproduceGeology(const ReproduceOptions& opt, const LogFn& log) {
+    const fs::path scenarios(opt.scenarioDir);
+    checkScenarioDir(scenarios);
+    std::vector<Scenario> runs;
+    std::vector<std::string> names;
+    for (const GeologySetting& g : geologySettings()) {
+        runs.push_back(readScenario(scenarios, g.scenario, "geological setting", kGeologySeed));
+        names.push_back(runs.back().name);
+    }
+    const DocTarget target = checkedDocTarget(opt.docPath);
+    std::vector<std::unique_ptr<OutputDir>> dirs = checkedRunDirs(opt.outDir, names);
     const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
-    const fs::path doc(opt.docPath);
-    const fs::path imageDir = doc.parent_path() / "images";
-    fs::create_directories(imageDir);
+    std::vector<GeologyRun> results;
+    std::vector<StagedPicture> pictures;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const GeologySetting& g = geologySettings()[i];
+        PipelineOptions po;
+        po.threads = threads;
+        const PipelineResult res = runInto(runs[i], *dirs[i], po, log);
+        const fs::path src = dirs[i]->target() / "images" / g.picture;
+        std::error_code ec;
+        if (!fs::is_regular_file(src, ec))
+            throw RuntimeError(src.string() + ": the run of " + g.scenario + " drew no " + g.picture +
+                               " (its [output] settings leave the picture out)");
+        pictures.push_back({geologyPictureName(g.scenario), readFileBytes(src)});
+        results.push_back({g.scenario, g.view, res.report});
+    }
+    writeDocs(target, pictures, geologySettingsMarkdown(results, threads));
+    if (log)
+        log("wrote " + target.doc.string() + ", " + std::to_string(pictures.size()) + " picture(s) in " +
+            target.imageDir.string() + " and " + std::to_string(runs.size()) + " run(s) under " + opt.outDir);
+}
+
+void reproducePaper(const ReproduceOptions& opt, const LogFn& log) {
+    const fs::path scenarios(opt.scenarioDir);
+    checkScenarioDir(scenarios);
+    // Check every scenario before running any, so a typo costs nothing.
+    std::vector<std::pair<const Figure*, Scenario>> runs;
+    std::vector<std::string> names;
+    for (const Figure& f : kFigures) {
+        runs.push_back({&f, readScenario(scenarios, f.scenario, "figure scenario", std::nullopt)});
+        names.push_back(runs.back().second.name);
+    }
+    const DocTarget target = checkedDocTarget(opt.docPath);
+    std::vector<std::unique_ptr<OutputDir>> dirs = checkedRunDirs(opt.outDir, names);
+    const int threads = opt.threads > 0 ? opt.threads : int(tbb::info::default_concurrency());
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    std::vector<StagedPicture> pictures;
 
     std::ostringstream md;
     md << "# Reproducing Pytel & Mann (JCGT 2015)\n\n"
@@ -135,19 +262,14 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         if (log) log(m);
     };
 
-    for (auto& [fig, s] : runs) {
-        const fs::path out = fs::path(opt.outDir) / s.name;
-        OutputDir dir(out, true);
-        dir.open();
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const auto& [fig, s] = runs[i];
+        const fs::path out = dirs[i]->target();
         PipelineOptions po;
         po.threads = threads;
         if (paperCave(s.name) && s.output.cave == CaveExtent::kChannels)
             po.alsoMeasure = CaveExtent::kWithProtochannels;
-        const PipelineResult res = runPipeline(s, dir, po);
-        dir.commit();
-        char line[160];
-        std::snprintf(line, sizeof line, "reproduce: %s in %.2f s", s.name.c_str(), res.totalSeconds);
-        say(line);
+        const PipelineResult res = runInto(s, *dirs[i], po, log);
         const nlohmann::json& r = res.report;
         reports.push_back({s.name, r});
         if (!res.alsoMeasured.is_null()) withProto.push_back({s.name, res.alsoMeasured});
@@ -172,7 +294,7 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
             const fs::path src = out / "images" / pic;
             if (!fs::exists(src)) continue;
             const std::string name = s.name + "_" + pic;
-            fs::copy_file(src, imageDir / name, fs::copy_options::overwrite_existing);
+            pictures.push_back({name, readFileBytes(src)});
             md << "![" << s.name << " " << pic << "](images/" << name << ")\n";
         }
         md << "\n";
@@ -270,8 +392,28 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
            << fmt(get(r, {"timing_s", "stage2"})) << " | " << fmt(get(r, {"timing_s", "total"})) << " | " << p1 << " | "
            << p2 << " |\n";
     }
-    writeFileAtomic(doc.string(), md.str());
-    say("wrote " + doc.string() + " and " + std::to_string(reports.size()) + " run(s) under " + opt.outDir);
+    writeDocs(target, pictures, md.str());
+    say("wrote " + target.doc.string() + " and " + std::to_string(reports.size()) + " run(s) under " + opt.outDir);
+}
+
+}  // namespace
+
+std::string reproduceDefaultOut(ReproduceSet set) {
+    return set == ReproduceSet::kGeology ? "out/geology" : "out/reproduce";
+}
+
+std::string reproduceDefaultDoc(ReproduceSet set) {
+    return set == ReproduceSet::kGeology ? "docs/geology_settings.md" : "docs/reproduction.md";
+}
+
+void reproduce(const ReproduceOptions& options, const LogFn& log) {
+    ReproduceOptions opt = options;
+    if (opt.outDir.empty()) opt.outDir = reproduceDefaultOut(opt.set);
+    if (opt.docPath.empty()) opt.docPath = reproduceDefaultDoc(opt.set);
+    if (opt.set == ReproduceSet::kGeology)
+        reproduceGeology(opt, log);
+    else
+        reproducePaper(opt, log);
 }
 
 }  // namespace cavesim::app

@@ -99,12 +99,23 @@ int main(int argc, char** argv) {
     referenceCmd->add_flag("--example", example,
                            "Print a complete, commented example scenario instead (every key at its default)");
 
+    // `reproduce [paper|geology]`: one command that rebuilds a generated page of the docs and its
+    // pictures from shipped scenarios; the word names which page (the options are the same).
     app::ReproduceOptions repro;
-    CLI::App* reproCmd =
-        app.add_subcommand("reproduce", "Run the paper's figure scenarios and write docs/reproduction.md");
-    reproCmd->add_option("--scenarios", repro.scenarioDir, "Folder of the figure scenarios")->capture_default_str();
-    reproCmd->add_option("--out,-o", repro.outDir, "Folder for the runs")->capture_default_str();
-    reproCmd->add_option("--doc", repro.docPath, "Markdown file to write")->capture_default_str();
+    std::string reproSet = "paper";
+    CLI::App* reproCmd = app.add_subcommand(
+        "reproduce",
+        "Rebuild a generated page of the docs and its pictures: paper (default) runs the paper's figure "
+        "scenarios and writes docs/reproduction.md; geology runs the shipped geological settings (seed 1) and "
+        "writes docs/geology_settings.md and docs/images/geology_*.png");
+    reproCmd->add_option("set", reproSet, "What to rebuild: paper or geology")
+        ->check(CLI::IsMember({"paper", "geology"}))
+        ->capture_default_str();
+    reproCmd->add_option("--scenarios", repro.scenarioDir, "Folder of the scenarios")->capture_default_str();
+    reproCmd->add_option("--out,-o", repro.outDir, "Folder for the runs (default out/reproduce; geology: out/geology)");
+    reproCmd->add_option("--doc", repro.docPath,
+                         "Markdown file to write, in an existing folder; the pictures go into images/ beside it "
+                         "(default docs/reproduction.md; geology: docs/geology_settings.md)");
     reproCmd->add_option("--threads,-j", repro.threads, "Worker threads")->check(CLI::Range(1, 1024));
 
     app::EnsembleRequest ens;
@@ -184,6 +195,7 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (*reproCmd) {
+            repro.set = reproSet == "geology" ? app::ReproduceSet::kGeology : app::ReproduceSet::kPaper;
             app::reproduce(repro, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
             return 0;
         }
