@@ -1,5 +1,6 @@
 #include "sim/fractures.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -109,8 +110,13 @@ double estimateKappa(const std::vector<Vec3d>& unitVectors) {
     return n - r > 0 ? (n - 1.0) / (n - r) : 0.0;
 }
 
+double fractureDrawVolume(const FractureFamily& f, const Dims& dims) {
+    const double grow = std::max(0.0, f.maxLength);  // max_length / 2 on each side
+    return (double(dims.nx) + grow) * (double(dims.ny) + grow) * (double(dims.nz) + grow);
+}
+
 double fractureCount(const FractureFamily& f, const Dims& dims) {
-    const double volume = double(dims.nx) * double(dims.ny) * double(dims.nz);
+    const double volume = fractureDrawVolume(f, dims);
     if (f.density > 0) return std::round(f.density * volume);
     if (!(f.spacing > 0)) return 0.0;
     return std::round(volume / (f.spacing * meanDiscArea(f.lengthExponent, f.minLength, f.maxLength)));
@@ -126,29 +132,38 @@ FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& famil
         CAVESIM_CHECK(count >= 1 && count <= 1e6, "generateFractureNetwork: a family of an unchecked size");
         Rng rng(familySeed(seed, fi));
         const Vec3d mean = poleFromOrientation(f.dipDirection, f.dip);
+        const double grow = 0.5 * std::max(0.0, f.maxLength);
         FractureFamilyStats st;
-        st.count = long(count);
         std::vector<Vec3d> poles;
-        poles.reserve(std::size_t(st.count));
         double lengthSum = 0, areaSum = 0;
-        for (long n = 0; n < st.count; ++n) {
+        for (long n = 0; n < long(count); ++n) {
             FractureDisc d;
             d.family = int(fi);
-            for (int ax = 0; ax < 3; ++ax) d.centre[ax] = -0.5 + (uniformOpen01(rng) - 0x1.0p-54) * size[ax];
+            for (int ax = 0; ax < 3; ++ax)
+                d.centre[ax] = -0.5 - grow + (uniformOpen01(rng) - 0x1.0p-54) * (size[ax] + 2 * grow);
             d.normal = sampleFisher(mean, f.kappa, rng);
             const double length = samplePowerLaw(f.lengthExponent, f.minLength, f.maxLength, rng);
             d.radius = 0.5 * length;
+            bool reaches = true;  // the disc's axis-aligned extent overlaps the block
+            for (int ax = 0; ax < 3; ++ax) {
+                const double extent = d.radius * std::sqrt(std::max(0.0, 1.0 - d.normal[ax] * d.normal[ax]));
+                reaches = reaches && d.centre[ax] + extent >= -0.5 && d.centre[ax] - extent <= size[ax] - 0.5;
+            }
+            if (!reaches) continue;
+            ++st.count;
             lengthSum += length;
             areaSum += kPi * d.radius * d.radius;
             poles.push_back(d.normal);
             net.discs.push_back(d);
         }
-        Vec3d resultant{0, 0, 0};
-        for (const Vec3d& p : poles)
-            for (int ax = 0; ax < 3; ++ax) resultant[ax] += p[ax];
-        orientationFromPole(resultant, st.meanDipDirection, st.meanDip);
-        st.kappaEstimate = estimateKappa(poles);
-        st.meanLength = lengthSum / double(st.count);
+        if (st.count > 0) {
+            Vec3d resultant{0, 0, 0};
+            for (const Vec3d& p : poles)
+                for (int ax = 0; ax < 3; ++ax) resultant[ax] += p[ax];
+            orientationFromPole(resultant, st.meanDipDirection, st.meanDip);
+            st.kappaEstimate = estimateKappa(poles);
+            st.meanLength = lengthSum / double(st.count);
+        }
         st.p32Nominal = areaSum / (size[0] * size[1] * size[2]);
         net.families.push_back(st);
     }

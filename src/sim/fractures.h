@@ -35,7 +35,7 @@ struct FractureDisc {
 
 /// One family's discs as drawn and as measured back.
 struct FractureFamilyStats {
-    long count = 0;               ///< discs
+    long count = 0;               ///< discs that reach the block
     double meanDipDirection = 0;  ///< degrees, of the mean resultant of the poles
     double meanDip = 0;           ///< degrees
     double kappaEstimate = 0;     ///< Fisher's estimate (N − 1) / (N − |Σ n|); 0 below 2 discs
@@ -79,14 +79,21 @@ double meanDiscArea(double exponent, double lo, double hi);
 /// Fisher's estimate of kappa from unit vectors: (N − 1) / (N − |Σ n|) (0 for fewer than 2).
 double estimateKappa(const std::vector<Vec3d>& unitVectors);
 
-/// The number of discs of `family` in a block of `dims`: round(density · V), or
-/// round(V / (spacing · meanDiscArea)), V = nx · ny · nz (voxels³). Not checked against limits
-/// (validateScenario does that).
+/// The block's box [−0.5, n − 0.5] grown by max_length / 2 on every side: every disc that can reach
+/// the block has its centre in it. Its volume, voxels³.
+double fractureDrawVolume(const FractureFamily& family, const Dims& dims);
+
+/// The number of disc centres drawn for `family` in the grown box of `fractureDrawVolume` (V_D):
+/// round(density · V_D), or round(V_D / (spacing · meanDiscArea)). Centres uniform in all of space
+/// at that intensity give P32 = 1 / spacing inside any block, whatever the discs' size: counting in
+/// the block alone loses the area of the discs cut by its faces (a thin block kept well under half
+/// of it). Not checked against limits (validateScenario does that).
 double fractureCount(const FractureFamily& family, const Dims& dims);
 
 /// Draws the discs of every family (validated: every count in 1..10⁶). Centres uniform in the
-/// block's box [−0.5, n − 0.5] per axis; per disc three draws for the centre, two for the pole,
-/// one for the diameter, in that order.
+/// grown box of `fractureDrawVolume`; per candidate three draws for the centre, two for the pole,
+/// one for the diameter, in that order; a candidate is kept when its axis-aligned extent
+/// (centre ± radius · √(1 − n_a²) per axis) overlaps the block.
 FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& families, const Dims& dims,
                                         std::uint64_t seed);
 

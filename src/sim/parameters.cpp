@@ -484,9 +484,11 @@ std::vector<ParamSection> makeRegistry() {
                  "porosity inside the slab (the larger of this and the rock's)"),
         }));
     family.prose =
-        "Discs drawn from `seed` (each family its own random stream): centres uniform in the block, poles\n"
-        "from a Fisher distribution about the mean pole, diameters from a truncated power law. Their number\n"
-        "is round(V / (spacing · E[disc area])) or round(density · V), V = nx · ny · nz. A family that cannot\n"
+        "Discs drawn from `seed` (each family its own random stream): centres uniform in the block grown by\n"
+        "max_length / 2 on every side (volume V), poles from a Fisher distribution about the mean pole,\n"
+        "diameters from a truncated power law; the discs that reach the block are kept. round(V / (spacing ·\n"
+        "E[disc area])) or round(density · V) centres are drawn, so P32 inside the block is 1 / spacing\n"
+        "whatever the discs' size. A family that cannot\n"
         "fit — min_length above max_length or above the block's longest side, a spacing above it, no disc\n"
         "at all, more than 10⁶ discs, both or neither of spacing and density — is an error. At most 16.\n"
         "report.json `fracture_network` gives each family's count, measured mean orientation, estimated\n"

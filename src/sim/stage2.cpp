@@ -422,8 +422,9 @@ float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g) {
 
 /// After voxel v's porosity or flags changed: lowers its rate to `voxelRate` and lists it for the
 /// pressure decrease when that is lower.
-inline void lowerRate(const Domain& dom, const Stage2Options& g, std::size_t v, Grid3<float>& rate,
-                      std::vector<std::size_t>& newChannel) {
+inline void lowerRate(const Domain& dom, const Stage2Options& g, const Stage2State& st, std::size_t v,
+                      Grid3<float>& rate, std::vector<std::size_t>& newChannel) {
+    if (!st.vadose.empty() && st.vadose[v]) return;  // above the table: keeps p_rate
     const float r = voxelRate(dom, v, g);
     if (r < rate[v]) {
         rate[v] = r;
@@ -758,7 +759,8 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
                     opened = true;
                 }
             }
-            if (channelRule(dom, v, threshold, conducting[c.slot]) || opened) lowerRate(dom, g, v, rate, fresh[c.slot]);
+            if (channelRule(dom, v, threshold, conducting[c.slot]) || opened)
+                lowerRate(dom, g, st, v, rate, fresh[c.slot]);
             dom.flow[v] = float(flow);
         });
     });
@@ -779,7 +781,7 @@ void startStage2(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<flo
     for (std::size_t v = 0; v < dom.flags.size(); ++v) {
         if (dom.flags[v] & kChannel) ++st.channelVoxels;
         if (!(dom.flags[v] & kOpen) && channelRule(dom, v, threshold, newConducting))
-            lowerRate(dom, g, v, rate, newChannel);
+            lowerRate(dom, g, st, v, rate, newChannel);
     }
     st.channelVoxels += long(newConducting.size());
     for (const auto& src : dom.sourceVoxels)
@@ -1065,11 +1067,13 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 for (const Refill& r : allRefill)
                     if (listed(ph.sources, std::size_t(r.source))) refill.push_back(r);
                 if (phaseIndex > 0 || !ph.sinks.empty()) {
-                    const Stopwatch tp;
-                    rate = rateField(dom, g);
-                    pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap,
-                                   fastmarch::Stencil::kAvalanche26);
-                    res.pressureSeconds += tp.seconds();
+                    if (!gravity) {  // with a table the front is solved below, once the table is known
+                        const Stopwatch tp;
+                        rate = rateField(dom, g);
+                        pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap,
+                                       fastmarch::Stencil::kAvalanche26);
+                        res.pressureSeconds += tp.seconds();
+                    }
                     reachFromSinks(dom, st, ph.sinks);  // only the active sinks are searched from
                     std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
                 }
@@ -1078,6 +1082,21 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
             if (gravity) {
                 table = fromSite ? dom.siteWaterTable
                                  : waterTableColumns(d, g.hydrology, hasTable ? ph.waterTable : double(d.nz));
+                // The phase's pressure front: vadose voxels (air-filled) carry no head and keep p_rate,
+                // so an abandoned upper passage does not short-circuit the phreatic zone to a spring.
+                const Stopwatch tp;
+                st.vadose.assign(n, 0);
+                for (int k = 0; k < d.nz; ++k)
+                    for (int j = 0; j < d.ny; ++j)
+                        for (int i = 0; i < d.nx; ++i)
+                            if (double(k) > table[std::size_t(i) + std::size_t(d.nx) * std::size_t(j)])
+                                st.vadose[d.index(i, j, k)] = 1;
+                rate = rateField(dom, g);
+                for (std::size_t v = 0; v < n; ++v)
+                    if (st.vadose[v] && !(dom.flags[v] & (kSource | kSink))) rate[v] = float(g.pRate);
+                pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap, fastmarch::Stencil::kAvalanche26);
+                res.pressureSeconds += tp.seconds();
+                std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
                 gravityPotential(pressure.value(), table, res.pressureCap, g, st, true, potential);
             }
         }

@@ -57,6 +57,10 @@ struct Stage2State {
     Dims dims;
     int tilesX = 0, tilesY = 0, tilesZ = 0;  ///< tiles along each axis
     std::vector<double> water;               ///< contents W of each voxel (dense)
+    /// 1 where the voxel lies above the phase's water table (empty without a table): an air-filled
+    /// passage carries no head, so the pressure front crosses such a voxel at `p_rate` whatever its
+    /// porosity or flags (docs/model.md, "Water table and gravity").
+    std::vector<std::uint8_t> vadose;
 
     std::vector<std::int32_t> tileSlot;      ///< per tile of the grid: its slot, −1 when inactive
     std::vector<std::uint32_t> activeTiles;  ///< slot → tile id (ti + tilesX·(tj + tilesY·tk)), in activation order

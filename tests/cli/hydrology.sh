@@ -20,7 +20,7 @@ box = [[39, 0, $3], [39, 0, $4]]
 [stage1]
 enabled = false
 [stage2]
-iterations = 200
+iterations = 240
 p_rate = 0.05
 p_rate_channel = 0.001
 [output]

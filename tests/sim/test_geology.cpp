@@ -112,10 +112,33 @@ TEST(Fractures, CountFollowsSpacingOrDensity) {
     FractureFamily f;
     f.minLength = f.maxLength = 2.0;  // discs of area π
     f.spacing = 1.0;
-    EXPECT_EQ(fractureCount(f, Dims{10, 10, 10}), std::round(1000 / kPi));
+    // Centres are drawn in the block grown by max_length / 2 = 1 on every side: 12³ voxels³.
+    EXPECT_DOUBLE_EQ(fractureDrawVolume(f, Dims{10, 10, 10}), 1728.0);
+    EXPECT_EQ(fractureCount(f, Dims{10, 10, 10}), std::round(1728 / kPi));
     f.spacing = 0;
     f.density = 0.01;
-    EXPECT_EQ(fractureCount(f, Dims{10, 10, 10}), 10.0);
+    EXPECT_EQ(fractureCount(f, Dims{10, 10, 10}), std::round(17.28));
+}
+
+TEST(Fractures, SpacingGivesP32InsideAThinBlock) {
+    // Vertical discs much taller than the block: counting centres in the block alone kept about a
+    // third of the asked P32 (the discs are cut by the top and floor); drawn in the grown box, the
+    // measured P32 is 1/spacing to within the sampling noise.
+    FractureFamily f;
+    f.dipDirection = 90;
+    f.dip = 90;
+    f.kappa = 400;
+    f.minLength = f.maxLength = 60.0;
+    f.spacing = 5.0;
+    f.aperture = 1.0;
+    const Dims d{80, 80, 8};
+    double sum = 0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        FractureNetwork net = generateFractureNetwork({f}, d, seed);
+        measureFractureNetwork(net, {f}, d);
+        sum += net.families[0].p32;
+    }
+    EXPECT_NEAR(sum / 20, 1.0 / 5.0, 0.1 / 5.0);  // the mean of 20 seeds within 10 %
 }
 
 TEST(Fractures, NetworkIsDeterministicPerSeed) {
@@ -138,9 +161,10 @@ TEST(Fractures, NetworkIsDeterministicPerSeed) {
         EXPECT_EQ(a.discs[i].radius, b.discs[i].radius);
         EXPECT_EQ(a.discs[i].family, b.discs[i].family);
         if (!differs && a.discs[i].centre != c.discs[i].centre) differs = true;
-        for (int ax = 0; ax < 3; ++ax) {
-            EXPECT_GE(a.discs[i].centre[ax], -0.5);
-            EXPECT_LE(a.discs[i].centre[ax], (ax == 0 ? 50 : ax == 1 ? 40 : 20) - 0.5);
+        for (int ax = 0; ax < 3; ++ax) {  // centres in the block grown by the largest radius
+            const double grow = 0.5 * fam[std::size_t(a.discs[i].family)].maxLength;
+            EXPECT_GE(a.discs[i].centre[ax], -0.5 - grow);
+            EXPECT_LE(a.discs[i].centre[ax], (ax == 0 ? 50 : ax == 1 ? 40 : 20) - 0.5 + grow);
         }
     }
     EXPECT_TRUE(differs);
@@ -254,8 +278,8 @@ at = [35, 15, 11]
     EXPECT_NE(bad("min_length", "45.0").find("cannot fit"), std::string::npos);
     EXPECT_NE(bad("min_length", "35.0").find("at most max_length"), std::string::npos);
     EXPECT_NE(bad("spacing", "100.0").find("spacing is larger than the block"), std::string::npos);
-    // 14 400 voxels³ × 10⁻⁵ = 0.14 discs.
-    EXPECT_NE(bad("spacing", "0.0", "kappa", "50.0\ndensity = 0.00001").find("gives no fracture"), std::string::npos);
+    // Centres drawn in the block grown by max_length / 2: 70 × 60 × 42 voxels³ × 2·10⁻⁶ = 0.35 discs.
+    EXPECT_NE(bad("spacing", "0.0", "kappa", "50.0\ndensity = 0.000002").find("gives no fracture"), std::string::npos);
     EXPECT_NE(bad("kappa", "50.0\ndensity = 0.001").find("not both"), std::string::npos);
     EXPECT_NE(bad("kappa", "0.0").find("must be a number in (0, "), std::string::npos);
     EXPECT_NE(bad("spacing", "0.0").find("give spacing > 0 or density > 0"), std::string::npos);
