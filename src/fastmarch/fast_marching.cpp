@@ -12,9 +12,6 @@
 #include <string>
 #include <utility>
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include "core/check.h"
 
 namespace cavesim::fastmarch {
@@ -418,50 +415,73 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
                                                   " outside a grid of " + std::to_string(dims.count()));
         CAVESIM_CHECK(s.label >= 0 && std::size_t(s.label) < labelSpeed.size(),
                       "marchLabelled: seed label " + std::to_string(s.label) + " has no speed");
+        CAVESIM_CHECK(s.value >= 0 && std::isfinite(s.value),
+                      "marchLabelled: seed values must be finite and >= 0, got " + std::to_string(s.value));
     }
     LabelledArrival out{Grid3<double>(dims, kInf), Grid3<std::int32_t>(dims, -1)};
-    // One front per label through the whole grid, then the earliest arrival wins (ties: lower
-    // label). The fronts are independent, so a batch of them marches in parallel, one per worker;
-    // merging in label order keeps the result the same for any thread count.
-    const std::size_t nLabels = labelSpeed.size();
-    const std::size_t batch = std::max<std::size_t>(1, std::size_t(tbb::this_task_arena::max_concurrency()));
-    std::vector<Grid3<double>> times(std::min(batch, nLabels));
-    std::vector<std::uint8_t> marched(nLabels, 0);
-    for (std::size_t first = 0; first < nLabels; first += batch) {
-        const std::size_t count = std::min(batch, nLabels - first);
-        tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
-            const std::size_t label = first + k;
-            Grid3<double>& time = times[k];
-            time = Grid3<double>(dims, kInf);
-            std::vector<std::uint8_t> isSeed(dims.count(), 0);
-            MinHeap heap;
-            for (const Seed& s : seeds) {
-                if (std::size_t(s.label) != label) continue;
-                time[s.voxel] = isSeed[s.voxel] ? std::min(time[s.voxel], s.value) : s.value;
-                isSeed[s.voxel] = 1;
-            }
-            bool any = false;
-            for (std::size_t n = 0; n < dims.count(); ++n)
-                if (isSeed[n]) {
-                    heap.push({time[n], n});
-                    any = true;
-                }
-            if (!any) return;
-            marched[label] = 1;
-            const float inv = float(1.0 / labelSpeed[label]);
-            Grid3<float> labelSlowness(dims);
-            for (std::size_t n = 0; n < dims.count(); ++n) labelSlowness[n] = (slowness ? (*slowness)[n] : 1.0f) * inv;
-            relax(dims, labelSlowness, isSeed, kInf, Stencil::kFace6, time, heap, nullptr);
-        });
-        for (std::size_t k = 0; k < count; ++k) {
-            if (!marched[first + k]) continue;
-            const Grid3<double>& time = times[k];
-            for (std::size_t n = 0; n < dims.count(); ++n)
-                if (time[n] < out.time[n]) {  // strict: on a tie the lower label, merged first, keeps the voxel
-                    out.time[n] = time[n];
-                    out.label[n] = std::int32_t(first + k);
-                }
+    Grid3<double>& time = out.time;
+    Grid3<std::int32_t>& label = out.label;
+    // One queue for all fronts. A voxel holds the best (time, label) offered so far; it settles
+    // when popped, with that label. An offer of label l is the Godunov update from the face
+    // neighbours settled with label l only, at the slowness of l (the same float product as a
+    // front marched alone, so one label gives the bits of a single-front march). Popping follows
+    // (time, voxel) and a voxel's final pair depends only on its neighbours' final pairs (an
+    // offer uses neighbours below it, which have all settled), so the result does not depend on
+    // the order of equal times, nor on the thread count (the march is serial).
+    std::vector<float> inverseSpeed(labelSpeed.size());
+    for (std::size_t l = 0; l < labelSpeed.size(); ++l) inverseSpeed[l] = float(1.0 / labelSpeed[l]);
+    std::vector<std::uint8_t> settled(dims.count(), 0);
+    const auto better = [&](std::size_t r, double u, std::int32_t l) {
+        return u < time[r] || (u == time[r] && l < label[r]);
+    };
+    MinHeap heap;
+    for (const Seed& s : seeds)
+        if (better(s.voxel, s.value, s.label)) {
+            time[s.voxel] = s.value;
+            label[s.voxel] = s.label;
         }
+    {
+        std::vector<HeapEntry> entries;
+        for (const Seed& s : seeds)
+            if (time[s.voxel] == s.value && label[s.voxel] == s.label) entries.push_back({s.value, s.voxel});
+        std::sort(entries.begin(), entries.end());
+        entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+        for (const HeapEntry& e : entries) heap.push(e);
+    }
+    const std::size_t sx = 1, sy = std::size_t(dims.nx), sz = std::size_t(dims.nx) * std::size_t(dims.ny);
+    // Time of voxel n for label l: its time if it settled with l, else +inf.
+    const auto timeOf = [&](std::size_t n, std::int32_t l) { return settled[n] && label[n] == l ? time[n] : kInf; };
+    // The offer of label l to voxel r at (i, j, k).
+    const auto offer = [&](std::size_t r, int i, int j, int k, std::int32_t l) {
+        const double ax = std::min(i > 0 ? timeOf(r - sx, l) : kInf, i + 1 < dims.nx ? timeOf(r + sx, l) : kInf);
+        const double ay = std::min(j > 0 ? timeOf(r - sy, l) : kInf, j + 1 < dims.ny ? timeOf(r + sy, l) : kInf);
+        const double az = std::min(k > 0 ? timeOf(r - sz, l) : kInf, k + 1 < dims.nz ? timeOf(r + sz, l) : kInf);
+        const float f = (slowness ? (*slowness)[r] : 1.0f) * inverseSpeed[std::size_t(l)];
+        return upwindUpdate(ax, ay, az, f);
+    };
+    while (!heap.empty()) {
+        const double v = heap.top().first;
+        const std::size_t q = heap.top().second;
+        heap.pop();
+        if (settled[q] || v != time[q]) continue;  // settled already, or a stale entry
+        settled[q] = 1;
+        const std::int32_t l = label[q];
+        const Index3 p = dims.coord(q);
+        const auto visit = [&](std::size_t r, int i, int j, int k) {
+            if (settled[r] || time[r] <= v) return;  // an offer from q is above v
+            const double u = offer(r, i, j, k, l);
+            if (better(r, u, l)) {
+                time[r] = u;
+                label[r] = l;
+                heap.push({u, r});
+            }
+        };
+        if (p.i > 0) visit(q - sx, p.i - 1, p.j, p.k);
+        if (p.i + 1 < dims.nx) visit(q + sx, p.i + 1, p.j, p.k);
+        if (p.j > 0) visit(q - sy, p.i, p.j - 1, p.k);
+        if (p.j + 1 < dims.ny) visit(q + sy, p.i, p.j + 1, p.k);
+        if (p.k > 0) visit(q - sz, p.i, p.j, p.k - 1);
+        if (p.k + 1 < dims.nz) visit(q + sz, p.i, p.j, p.k + 1);
     }
     return out;
 }

@@ -4,8 +4,8 @@
 /// stencil uses a bucket queue where the buckets can be as narrow as its smallest edge cost).
 ///
 /// Two uses in cavesim (Pytel & Mann, JCGT 2015):
-///  - `marchLabelled`: several labelled fronts race; every voxel takes the label of the front that
-///    reaches it first (stage 1 pressure zones, paper §3.1).
+///  - `marchLabelled`: several labelled fronts race in one queue; every voxel takes the label of
+///    the front that settles it first (stage 1 pressure zones, paper §3.1).
 ///  - `EikonalField`: the stage-2 pressure front (paper §3.2), P(x) = min(cap, arrival time)
 ///    with per-voxel rise rate = slowness, solved once and then updated incrementally when rates
 ///    only fall (the "avalanche": decrease-only re-propagation from the changed voxels).
@@ -39,18 +39,28 @@ struct LabelledArrival {
     Grid3<std::int32_t> label;
 };
 
-/// Several fronts march at once through a shared slowness field; front `l` moves with speed
-/// `labelSpeed[l] / slowness(x)` (so its arrival time solves |∇T| = slowness / labelSpeed[l]).
-/// Each voxel joins the front that arrives first (ties: the lower label). Fronts march
-/// independently, so with uniform slowness the zones are the multiplicatively weighted Voronoi
-/// cells: a bisector plane for equal speeds, an Apollonius sphere for unequal ones. One march per
-/// label: cost O(labels · voxels · log voxels); the marches run in parallel (one per worker) and
-/// are merged in label order, so the result does not depend on the thread count.
+/// Several fronts march at once through a shared slowness field, in one queue: front `l` moves with
+/// speed `labelSpeed[l] / slowness(x)` (its arrival time solves |∇T| = slowness / labelSpeed[l]),
+/// and each voxel joins the front that settles it first (ties: the lower label). A voxel's time
+/// for front `l` is the Godunov update from its face neighbours settled by `l` only, so a front
+/// does not pass through voxels another front holds: the zones are connected, each reached through
+/// itself (a "crystal" partition). With uniform slowness and equal speeds they are the Voronoi
+/// cells (a bisector plane); with unequal speeds they are the multiplicatively weighted Voronoi
+/// cells (an Apollonius sphere) where the faster front sees the boundary in a straight line, and
+/// in the shadow of a slower zone the faster front must go around it, so the slower zone reaches
+/// farther there than the sphere. Along a boundary a voxel's time is that of its own front from
+/// one side only, so times (and labels) there may differ from the minimum over fronts marched
+/// alone by up to about one voxel. Cost O(voxels · log voxels) for any number of labels; serial,
+/// and ordered by (time, voxel), so the result does not depend on the thread count, and a
+/// mirrored input gives the mirrored result.
 /// @param dims        the grid
 /// @param slowness    per-voxel slowness, > 0, or +inf for impassable; nullptr = 1 everywhere
-/// @param seeds       starting voxels; a voxel listed twice keeps the smaller value (lower label on ties)
+/// @param seeds       starting voxels with their starting times (finite, ≥ 0); a voxel listed
+///                    twice keeps the smaller time (lower label on ties); a front arriving
+///                    earlier than a seed's time takes the seed's voxel
 /// @param labelSpeed  speed factor of each label, > 0
-/// @throw cavesim::InternalError on a seed outside the grid, a negative label or a label without speed
+/// @throw cavesim::InternalError on a seed outside the grid, a negative label, a label without
+///        speed or a seed time that is negative or not finite
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
                               const std::vector<double>& labelSpeed);
 

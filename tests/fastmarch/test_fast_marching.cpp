@@ -2,6 +2,7 @@
 // Apollonius boundaries of labelled fronts, caps, incremental updates, mirror symmetry.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -207,24 +208,38 @@ TEST(Labelled, EqualSpeedsSplitOnTheBisector) {
     EXPECT_LT(std::abs(count[0] - count[1]), 0.05 * (count[0] + count[1]));
 }
 
-TEST(Labelled, SpeedRatioTwoGivesApolloniusCircle) {
-    // Fronts from a (speed 2) and b (speed 1): the boundary is the Apollonius circle where
-    // |x−a| = 2|x−b|: centre b + (b−a)/3, radius 2|b−a|/3.
+TEST(Labelled, SpeedRatioTwoGivesApolloniusCircleWhereTheFasterFrontSeesIt) {
+    // Fronts from a (speed 2) and b (speed 1): the weighted Voronoi boundary is the Apollonius
+    // circle where |x−a| = 2|x−b|: centre b + (b−a)/3, radius 2|b−a|/3. The lines from a that
+    // touch the circle touch it at x = b_x; on the near side (x <= b_x) the labels follow the
+    // circle. Beyond b_x the circle is in the shadow of b's zone: a's front may not pass through
+    // it and goes around, so b's zone reaches farther there — never less far.
     const Dims d{81, 81, 1};
     const double ax = 25, ay = 40, bx = 49, by = 40;
     const auto out = marchLabelled(d, nullptr, {{d.index(25, 40, 0), 0, 0}, {d.index(49, 40, 0), 0, 1}}, {2.0, 1.0});
     const double cx = bx + (bx - ax) / 3, cy = by + (by - ay) / 3, rad = 2 * (bx - ax) / 3;
-    int wrong = 0, checked = 0;
+    int wrong = 0, checked = 0, shadow = 0;
     for (int j = 0; j < d.ny; ++j)
         for (int i = 0; i < d.nx; ++i) {
             const double r = std::hypot(i - cx, j - cy);
             const int expect = r < rad ? 1 : 0;
+            const int got = out.label.at(i, j, 0);
+            if (i > bx) {
+                if (got != expect) {
+                    EXPECT_EQ(got, 1) << i << "," << j;  // b's zone reaches farther, a's never
+                    ++shadow;
+                }
+                continue;
+            }
             if (std::abs(r - rad) < 2.5) continue;  // first-order band around the circle
             ++checked;
-            wrong += out.label.at(i, j, 0) != expect;
+            wrong += got != expect;
         }
-    EXPECT_GT(checked, 5000);
-    EXPECT_LT(wrong, checked / 200);
+    EXPECT_GT(checked, 3000);
+    EXPECT_EQ(wrong, 0);
+    EXPECT_GT(shadow, 50);                       // the far side of the circle is in b's zone
+    EXPECT_EQ(out.label.at(75, 40, 0), 1);       // 2 voxels beyond the circle, behind b
+    EXPECT_EQ(out.label.at(49, 40 + 20, 0), 0);  // beside b, outside the circle: a's
 }
 
 TEST(Labelled, ImpassableVoxelsAreNotReached) {
@@ -238,42 +253,200 @@ TEST(Labelled, ImpassableVoxelsAreNotReached) {
     EXPECT_TRUE(std::isinf(out.time.at(8, 0, 0)));
 }
 
-TEST(Labelled, ParallelFrontsEqualOneAtATimeForAnyThreadCount) {
-    // Five labels (one without seeds) through random slowness with impassable voxels: more labels
-    // than workers, so the fronts march in batches. The result must equal each front marched on
-    // its own and merged by (time, label), bit for bit, with one thread and with all.
-    const Dims d{23, 17, 9};
-    std::mt19937 rng(5);
+/// Random slowness in [0.5, 2] with every 37th voxel impassable.
+Grid3<float> randomSlowness(const Dims& d, unsigned seed, bool walls = true) {
+    std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.5f, 2.0f);
     Grid3<float> s(d);
     for (float& v : s.data) v = u(rng);
-    for (std::size_t v = 0; v < s.size(); v += 37) s[v] = std::numeric_limits<float>::infinity();
+    if (walls)
+        for (std::size_t v = 0; v < s.size(); v += 37) s[v] = std::numeric_limits<float>::infinity();
+    return s;
+}
+
+TEST(Labelled, OneLabelIsTheSingleFrontBitForBit) {
+    // With one label the labelled march is plain fast marching: the same bits as EikonalField.
+    const Dims d{23, 17, 9};
+    const Grid3<float> s = randomSlowness(d, 5, false);
+    const std::vector<Seed> seeds{{d.index(2, 3, 4), 0, 0}, {d.index(20, 3, 1), 0, 0}};
+    EikonalField f;
+    f.solve(d, s, seeds, std::numeric_limits<double>::infinity());
+    const auto got = marchLabelled(d, &s, seeds, {1.0});
+    for (std::size_t v = 0; v < d.count(); ++v) {
+        ASSERT_EQ(got.time[v], f.value()[v]) << v;
+        ASSERT_EQ(got.label[v], 0) << v;
+    }
+}
+
+TEST(Labelled, RowGivesExactTimes) {
+    // A row of 11 voxels: label 0 at x = 0 (speed 1), label 1 at x = 10 (speed 2, slowness 0.5).
+    // Label 0 arrives at x at time x, label 1 at (10 − x) / 2: label 0 holds x <= 3 (3 < 3.5),
+    // label 1 from x = 4 (3 < 4).
+    const Dims d{11, 1, 1};
+    const auto out = marchLabelled(d, nullptr, {{0, 0, 0}, {10, 0, 1}}, {1.0, 2.0});
+    const std::vector<double> time{0, 1, 2, 3, 3, 2.5, 2, 1.5, 1, 0.5, 0};
+    const std::vector<std::int32_t> label{0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1};
+    EXPECT_EQ(out.time.data, time);
+    EXPECT_EQ(out.label.data, label);
+    // Equal speeds: the middle voxel ties at time 5 and goes to the lower label, whichever
+    // seed is listed first.
+    const auto tie = marchLabelled(d, nullptr, {{10, 0, 1}, {0, 0, 0}}, {1.0, 1.0});
+    EXPECT_EQ(tie.time.at(5, 0, 0), 5.0);
+    EXPECT_EQ(tie.label.at(5, 0, 0), 0);
+    EXPECT_EQ(tie.label.at(6, 0, 0), 1);
+}
+
+TEST(Labelled, FrontUsesOnlyItsOwnVoxels) {
+    // 2×2: label 0 starts at (0,0) at time 0, label 1 at (1,0) at time 0.9, both speed 1.
+    // Label 1 holds (1,0) (0.9 < 1). At (1,1) label 0 may use only (0,1) (time 1), one-sided:
+    // 2; label 1 offers 0.9 + 1 = 1.9 and wins. (Two fronts marched alone and merged would give
+    // label 0's two-sided (2 + √2) / 2 = 1.707 there.)
+    const Dims d{2, 2, 1};
+    const auto out = marchLabelled(d, nullptr, {{d.index(0, 0, 0), 0, 0}, {d.index(1, 0, 0), 0.9, 1}}, {1.0, 1.0});
+    EXPECT_EQ(out.label.data, (std::vector<std::int32_t>{0, 1, 0, 1}));
+    EXPECT_EQ(out.time.data, (std::vector<double>{0, 0.9, 1, 0.9 + 1.0}));
+}
+
+/// Exact multiplicatively weighted Voronoi label of voxel (i, j, k): argmin |x − s_l| / p_l
+/// (lower label on ties).
+int voronoiLabel(const std::vector<Index3>& at, const std::vector<double>& p, int i, int j, int k) {
+    int best = -1;
+    double bestD = std::numeric_limits<double>::infinity();
+    for (std::size_t l = 0; l < at.size(); ++l) {
+        const double dist = std::sqrt(double((i - at[l].i) * (i - at[l].i) + (j - at[l].j) * (j - at[l].j) +
+                                             (k - at[l].k) * (k - at[l].k))) /
+                            p[l];
+        if (dist < bestD) {
+            bestD = dist;
+            best = int(l);
+        }
+    }
+    return best;
+}
+
+/// Voxels whose march label differs from the weighted Voronoi label although no voxel of their
+/// 3×3×3 neighbourhood has another Voronoi label (i.e. more than one voxel from a boundary).
+/// `wrongNear` counts those within one voxel of a boundary.
+long wrongAwayFromBoundaries(const Dims& d, const LabelledArrival& out, const std::vector<Index3>& at,
+                             const std::vector<double>& p, long& wrongNear) {
+    Grid3<std::int32_t> exact(d);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) exact.at(i, j, k) = voronoiLabel(at, p, i, j, k);
+    long wrong = 0;
+    wrongNear = 0;
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                if (out.label.at(i, j, k) == exact.at(i, j, k)) continue;
+                bool nearBoundary = false;
+                for (const auto& o : allNeighbours())
+                    if (d.contains(i + o.di, j + o.dj, k + o.dk) &&
+                        exact.at(i + o.di, j + o.dj, k + o.dk) != exact.at(i, j, k))
+                        nearBoundary = true;
+                ++(nearBoundary ? wrongNear : wrong);
+            }
+    return wrong;
+}
+
+TEST(Labelled, UnequalSpeedsGiveTheWeightedVoronoiCellsInTwoAndThreeSources) {
+    // Uniform rock, 3D. The slower fronts start on the +x face: a slower zone is a ball (the
+    // Apollonius sphere) whose far side — where a faster front would have to go around it —
+    // lies beyond the plane through its source across the line to the faster source, outside
+    // this block. Then the labels are the weighted Voronoi cells except within one voxel of a
+    // boundary.
+    const Dims d{40, 32, 20};
+    const std::vector<Index3> two{{6, 16, 10}, {39, 14, 8}};
+    const std::vector<double> p2{2.0, 1.0};
+    const std::vector<Index3> three{{6, 16, 10}, {39, 6, 8}, {39, 26, 12}};
+    const std::vector<double> p3{2.0, 1.0, 1.3};
+    for (const auto& [at, p] : {std::pair{two, p2}, std::pair{three, p3}}) {
+        std::vector<Seed> seeds;
+        for (std::size_t l = 0; l < at.size(); ++l) seeds.push_back({d.index(at[l]), 0, int(l)});
+        const auto out = marchLabelled(d, nullptr, seeds, p);
+        long near = 0;
+        EXPECT_EQ(wrongAwayFromBoundaries(d, out, at, p, near), 0) << at.size() << " sources";
+        std::vector<long> count(at.size(), 0);
+        for (std::int32_t l : out.label.data) ++count[std::size_t(l)];
+        for (long c : count) EXPECT_GT(c, 500) << at.size() << " sources";
+        EXPECT_LT(near, long(d.count()) / 50) << at.size() << " sources";
+    }
+}
+
+TEST(Labelled, MirroredInputGivesMirroredLabels) {
+    // Equal speeds, random slowness with walls, three seeds; the whole input mirrored in x, in y
+    // and in both gives the mirrored labels and times, bit for bit.
+    const Dims d{23, 17, 9};
+    const Grid3<float> s = randomSlowness(d, 9);
+    const std::vector<Index3> at{{2, 3, 4}, {18, 5, 1}, {11, 14, 7}};
+    const auto march = [&](bool mx, bool my) {
+        Grid3<float> m(d);
+        for (int k = 0; k < d.nz; ++k)
+            for (int j = 0; j < d.ny; ++j)
+                for (int i = 0; i < d.nx; ++i) m.at(mx ? d.nx - 1 - i : i, my ? d.ny - 1 - j : j, k) = s.at(i, j, k);
+        std::vector<Seed> seeds;
+        for (std::size_t l = 0; l < at.size(); ++l)
+            seeds.push_back(
+                {d.index(mx ? d.nx - 1 - at[l].i : at[l].i, my ? d.ny - 1 - at[l].j : at[l].j, at[l].k), 0, int(l)});
+        return marchLabelled(d, &m, seeds, {1.0, 1.0, 1.0});
+    };
+    const auto plain = march(false, false);
+    for (int l = 0; l < 3; ++l) EXPECT_GT(std::count(plain.label.data.begin(), plain.label.data.end(), l), 200) << l;
+    for (const auto& [mx, my] : {std::pair{true, false}, std::pair{false, true}, std::pair{true, true}}) {
+        const auto mirrored = march(mx, my);
+        for (int k = 0; k < d.nz; ++k)
+            for (int j = 0; j < d.ny; ++j)
+                for (int i = 0; i < d.nx; ++i) {
+                    const int mi = mx ? d.nx - 1 - i : i, mj = my ? d.ny - 1 - j : j;
+                    ASSERT_EQ(mirrored.label.at(mi, mj, k), plain.label.at(i, j, k)) << i << "," << j << "," << k;
+                    const double a = mirrored.time.at(mi, mj, k), b = plain.time.at(i, j, k);
+                    ASSERT_TRUE(a == b || (std::isinf(a) && std::isinf(b))) << i << "," << j << "," << k;
+                }
+    }
+}
+
+TEST(Labelled, ZonesAreConnectedAndTheResultIsTheSameForAnyThreadCount) {
+    // Five labels (one without seeds) through random slowness with impassable voxels. Every voxel
+    // of a zone is reached through its own zone: a face neighbour of the same label has a
+    // smaller time (or it is a seed). The result is the same with one thread and with all.
+    const Dims d{23, 17, 9};
+    const Grid3<float> s = randomSlowness(d, 5);
     const std::vector<double> speed{1.0, 1.7, 0.8, 1.2, 2.5};
     const std::vector<Seed> seeds{{d.index(2, 3, 4), 0, 0},   {d.index(20, 3, 1), 0.5, 1}, {d.index(11, 15, 7), 0, 2},
                                   {d.index(12, 15, 7), 0, 2}, {d.index(5, 10, 0), 0, 4},   {d.index(2, 3, 4), 0, 4}};
-    LabelledArrival expect{Grid3<double>(d, std::numeric_limits<double>::infinity()), Grid3<std::int32_t>(d, -1)};
-    for (int label = 0; label < int(speed.size()); ++label) {
-        std::vector<Seed> own;
-        for (Seed q : seeds)
-            if (q.label == label) own.push_back({q.voxel, q.value, 0});
-        if (own.empty()) continue;
-        const auto one = marchLabelled(d, &s, own, {speed[std::size_t(label)]});
-        for (std::size_t v = 0; v < d.count(); ++v)
-            if (one.time[v] < expect.time[v]) {
-                expect.time[v] = one.time[v];
-                expect.label[v] = label;
-            }
-    }
+    LabelledArrival first;
     for (int threads : {1, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
         const auto got = marchLabelled(d, &s, seeds, speed);
-        ASSERT_EQ(got.label.data, expect.label.data) << threads << " thread(s)";
+        if (threads == 1) {
+            first = got;
+            continue;
+        }
+        ASSERT_EQ(got.label.data, first.label.data);
         for (std::size_t v = 0; v < d.count(); ++v)
-            ASSERT_TRUE(got.time[v] == expect.time[v] || (std::isinf(got.time[v]) && std::isinf(expect.time[v]))) << v;
+            ASSERT_TRUE(got.time[v] == first.time[v] || (std::isinf(got.time[v]) && std::isinf(first.time[v]))) << v;
     }
+    std::vector<std::uint8_t> isSeed(d.count(), 0);
+    for (const Seed& q : seeds) isSeed[q.voxel] = 1;
+    long reached = 0;
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                const std::size_t v = d.index(i, j, k);
+                if (first.label[v] < 0 || isSeed[v]) continue;
+                ++reached;
+                bool fromOwn = false;
+                for (const auto& o : faceNeighbours())
+                    if (d.contains(i + o.di, j + o.dj, k + o.dk)) {
+                        const std::size_t n = d.index(i + o.di, j + o.dj, k + o.dk);
+                        fromOwn = fromOwn || (first.label[n] == first.label[v] && first.time[n] < first.time[v]);
+                    }
+                ASSERT_TRUE(fromOwn) << i << "," << j << "," << k;
+            }
+    EXPECT_GT(reached, long(d.count()) / 2);
     // Label 4 shares a seed voxel with label 0 at the same time: the lower label keeps it.
-    EXPECT_EQ(expect.label[d.index(2, 3, 4)], 0);
-    EXPECT_EQ(std::count(expect.label.data.begin(), expect.label.data.end(), 3), 0);
+    EXPECT_EQ(first.label[d.index(2, 3, 4)], 0);
+    EXPECT_EQ(std::count(first.label.data.begin(), first.label.data.end(), 3), 0);
 }
 
 TEST(Labelled, BadInputThrows) {
@@ -281,6 +454,7 @@ TEST(Labelled, BadInputThrows) {
     EXPECT_THROW(marchLabelled(d, nullptr, {{100, 0, 0}}, {1.0}), InternalError);
     EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 2}}, {1.0}), InternalError);
     EXPECT_THROW(marchLabelled(d, nullptr, {{0, 0, 0}}, {0.0}), InternalError);
+    EXPECT_THROW(marchLabelled(d, nullptr, {{0, -1.0, 0}}, {1.0}), InternalError);
 }
 
 }  // namespace
