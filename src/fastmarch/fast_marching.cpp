@@ -430,7 +430,10 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
     // the order of equal times, nor on the thread count (the march is serial).
     std::vector<float> inverseSpeed(labelSpeed.size());
     for (std::size_t l = 0; l < labelSpeed.size(); ++l) inverseSpeed[l] = float(1.0 / labelSpeed[l]);
-    std::vector<std::uint8_t> settled(dims.count(), 0);
+    // A settled voxel's label is kept as label + kSettled (labels are < 2^30; an unreached voxel's
+    // −1 stays below), so one read tells both; taken off at the end.
+    constexpr std::int32_t kSettled = std::int32_t(1) << 30;
+    CAVESIM_CHECK(labelSpeed.size() < std::size_t(kSettled), "marchLabelled: too many labels");
     const auto better = [&](std::size_t r, double u, std::int32_t l) {
         return u < time[r] || (u == time[r] && l < label[r]);
     };
@@ -449,26 +452,31 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         for (const HeapEntry& e : entries) heap.push(e);
     }
     const std::size_t sx = 1, sy = std::size_t(dims.nx), sz = std::size_t(dims.nx) * std::size_t(dims.ny);
-    // Time of voxel n for label l: its time if it settled with l, else +inf.
-    const auto timeOf = [&](std::size_t n, std::int32_t l) { return settled[n] && label[n] == l ? time[n] : kInf; };
+    // Time of voxel n for a label, given as label + kSettled: its time if it settled with that label, else +inf.
+    const auto timeOf = [&](std::size_t n, std::int32_t settledL) { return label[n] == settledL ? time[n] : kInf; };
     // The offer of label l to voxel r at (i, j, k).
     const auto offer = [&](std::size_t r, int i, int j, int k, std::int32_t l) {
-        const double ax = std::min(i > 0 ? timeOf(r - sx, l) : kInf, i + 1 < dims.nx ? timeOf(r + sx, l) : kInf);
-        const double ay = std::min(j > 0 ? timeOf(r - sy, l) : kInf, j + 1 < dims.ny ? timeOf(r + sy, l) : kInf);
-        const double az = std::min(k > 0 ? timeOf(r - sz, l) : kInf, k + 1 < dims.nz ? timeOf(r + sz, l) : kInf);
+        const std::int32_t settledL = l + kSettled;
+        const double ax =
+            std::min(i > 0 ? timeOf(r - sx, settledL) : kInf, i + 1 < dims.nx ? timeOf(r + sx, settledL) : kInf);
+        const double ay =
+            std::min(j > 0 ? timeOf(r - sy, settledL) : kInf, j + 1 < dims.ny ? timeOf(r + sy, settledL) : kInf);
+        const double az =
+            std::min(k > 0 ? timeOf(r - sz, settledL) : kInf, k + 1 < dims.nz ? timeOf(r + sz, settledL) : kInf);
         const float f = (slowness ? (*slowness)[r] : 1.0f) * inverseSpeed[std::size_t(l)];
         return upwindUpdate(ax, ay, az, f);
     };
+    const auto isSettled = [&](std::size_t n) { return label[n] >= kSettled; };
     while (!heap.empty()) {
         const double v = heap.top().first;
         const std::size_t q = heap.top().second;
         heap.pop();
-        if (settled[q] || v != time[q]) continue;  // settled already, or a stale entry
-        settled[q] = 1;
+        if (isSettled(q) || v != time[q]) continue;  // settled already, or a stale entry
         const std::int32_t l = label[q];
+        label[q] += kSettled;
         const Index3 p = dims.coord(q);
         const auto visit = [&](std::size_t r, int i, int j, int k) {
-            if (settled[r] || time[r] <= v) return;  // an offer from q is above v
+            if (isSettled(r) || time[r] <= v) return;  // an offer from q is above v
             const double u = offer(r, i, j, k, l);
             if (better(r, u, l)) {
                 time[r] = u;
@@ -483,6 +491,8 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         if (p.k > 0) visit(q - sz, p.i, p.j, p.k - 1);
         if (p.k + 1 < dims.nz) visit(q + sz, p.i, p.j, p.k + 1);
     }
+    for (std::int32_t& l : label.data)
+        if (l >= kSettled) l -= kSettled;
     return out;
 }
 

@@ -14,8 +14,8 @@ namespace {
 // Bytes per voxel of the block (see bench/README.md, "Pre-flight", for the measured peaks).
 constexpr double kProgramBytes = 64e6;     // the program, TBB, OpenVDB, before any grid
 constexpr double kDomainBytes = 25;        // porosity, porosity0, pressure, water, flow (float), zone (int32), flags
-constexpr double kMarchBytes = 12;         // the zone march's merged time (double) and label (int32)
-constexpr double kMarchPerThread = 13;     // per front marching at once: time (double), slowness (float), seed flag
+constexpr double kMarchBytes = 12;         // the zone march's time (double) and label (int32)
+constexpr double kMarchScratch = 7;        // while it marches: slowness (float), settled flag, the queue (~2)
 constexpr double kStage2DenseBytes = 22;   // water (double), rate (float), pressure (double), seed + scratch flags
 constexpr double kStage2ActiveBytes = 80;  // per voxel of an active tile: 9 doubles of transients, masks
 constexpr double kActiveShare = 0.6;       // share of the block's tiles that water reaches (fig10 k = 1…4: 0.4–0.5)
@@ -44,7 +44,7 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
         const double zone =
             std::min({kLargestZone * n / sources, n, double(s.stage1.networkVoxels), double(s.stage1.maxGraphVoxels)});
         e.stage1Bytes =
-            domain + kMarchBytes * n + std::max(atOnce * kMarchPerThread * n, atOnce * stage1NetworkBytes(zone));
+            domain + kMarchBytes * n + std::max(kMarchScratch * n, atOnce * stage1NetworkBytes(zone));
     }
     if (s.stage2.enabled) e.stage2Bytes = domain + kStage2DenseBytes * n + kActiveShare * kStage2ActiveBytes * n;
     e.outputBytes = domain + kOutputBytes * n;
