@@ -48,11 +48,13 @@ struct LabelledArrival {
 /// cells (a bisector plane); with unequal speeds they are the multiplicatively weighted Voronoi
 /// cells (an Apollonius sphere) where the faster front sees the boundary in a straight line, and
 /// in the shadow of a slower zone the faster front must go around it, so the slower zone reaches
-/// farther there than the sphere. Along a boundary a voxel's time is that of its own front from
-/// one side only, so times (and labels) there may differ from the minimum over fronts marched
-/// alone by up to about one voxel. Cost O(voxels · log voxels) for any number of labels; serial,
-/// and ordered by (time, voxel), so the result does not depend on the thread count, and a
-/// mirrored input gives the mirrored result.
+/// farther there than the sphere. Against the minimum over fronts marched alone: along a boundary
+/// a voxel's time is its own front's update from its own side only, so times there and behind
+/// are a little larger and labels move by about a voxel; where a front reached rock only through
+/// another zone (a shadow, a fast path crossing another zone) that rock goes to a front that
+/// reaches it through its own zone. Cost O(voxels · log voxels) for any number of labels; serial,
+/// and ordered by (time, voxel), so the result does not depend on the thread count, and an input
+/// mirrored in x, y or z (slowness and seeds, each seed keeping its label) gives the mirrored result.
 /// @param dims        the grid
 /// @param slowness    per-voxel slowness, > 0, or +inf for impassable; nullptr = 1 everywhere
 /// @param seeds       starting voxels with their starting times (finite, ≥ 0); a voxel listed
