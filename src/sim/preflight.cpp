@@ -43,8 +43,7 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
         // The largest network: the largest zone, or the neighbourhood its network is limited to.
         const double zone =
             std::min({kLargestZone * n / sources, n, double(s.stage1.networkVoxels), double(s.stage1.maxGraphVoxels)});
-        e.stage1Bytes =
-            domain + kMarchBytes * n + std::max(kMarchScratch * n, atOnce * stage1NetworkBytes(zone));
+        e.stage1Bytes = domain + kMarchBytes * n + std::max(kMarchScratch * n, atOnce * stage1NetworkBytes(zone));
     }
     if (s.stage2.enabled) e.stage2Bytes = domain + kStage2DenseBytes * n + kActiveShare * kStage2ActiveBytes * n;
     e.outputBytes = domain + kOutputBytes * n;
