@@ -419,69 +419,201 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
                       "marchLabelled: seed values must be finite and >= 0, got " + std::to_string(s.value));
     }
     LabelledArrival out{Grid3<double>(dims, kInf), Grid3<std::int32_t>(dims, -1)};
-    Grid3<double>& time = out.time;
-    Grid3<std::int32_t>& label = out.label;
-    // One queue for all fronts. A voxel holds the best (time, label) offered so far; it settles
-    // when popped, with that label. An offer of label l is the Godunov update from the face
-    // neighbours settled with label l only, at the slowness of l (the same float product as a
-    // front marched alone, so one label gives the bits of a single-front march). Popping follows
-    // (time, voxel) and a voxel's final pair depends only on its neighbours' final pairs (an
-    // offer uses neighbours below it, which have all settled), so the result does not depend on
-    // the order of equal times, nor on the thread count (the march is serial).
+    // One queue for all fronts, keeping each front's own times (the per-front minimum, as if each
+    // marched alone over the block). A (voxel, label) entry holds label l's time at the voxel; a
+    // voxel's first entry is in `out` (time, and the label with the flags below), any further ones
+    // in a list (`pool`, head per voxel in `heads`). The dense entry is always the voxel's best
+    // (time, label), so it settles first and is the winner. Front l's update at a voxel is the
+    // Godunov update from l's own times at the face neighbours, whatever label holds them, at the
+    // slowness of l (the float product of a front marched alone), so wherever l propagates its
+    // times are those of its own march, bit for bit. Front l stops propagating (settles without
+    // offering) at a voxel y where it is dominated: some label m with speed >= l's has settled y
+    // with T_m(y) + margin <= T_l(y); margin is kDominanceSteps times l's largest one-voxel cost at
+    // y and its face neighbours. Beyond y, m reaches everything at least as early as l does, so l
+    // cannot win there; and a voxel z that l wins never takes l's time from a dominated neighbour:
+    // T_l(y) < T_l(z) <= T_m(z) <= T_m(y) + (m's cost at z) would need the margin below one step.
+    // The extra steps cover the first-order scheme's direction error, which lets a front gain on
+    // another near a boundary by a fraction of a step per voxel. Popping follows (time, voxel,
+    // label) and the march is serial, so the result does not depend on the thread count.
+    constexpr double kDominanceSteps = 3.0;
+    constexpr std::int32_t kSettled = std::int32_t(1) << 30;  // the entry has been popped
+    constexpr std::int32_t kSeed = std::int32_t(1) << 29;     // a seed: its time stays
+    constexpr std::int32_t kMore = std::int32_t(1) << 28;     // dense code only: the voxel has a list
+    constexpr std::int32_t kLabelMask = kMore - 1;
+    CAVESIM_CHECK(labelSpeed.size() < std::size_t(kMore), "marchLabelled: too many labels");
     std::vector<float> inverseSpeed(labelSpeed.size());
     for (std::size_t l = 0; l < labelSpeed.size(); ++l) inverseSpeed[l] = float(1.0 / labelSpeed[l]);
-    // A settled voxel's label is kept as label + kSettled (labels are < 2^30; an unreached voxel's
-    // −1 stays below), so one read tells both; taken off at the end.
-    constexpr std::int32_t kSettled = std::int32_t(1) << 30;
-    CAVESIM_CHECK(labelSpeed.size() < std::size_t(kSettled), "marchLabelled: too many labels");
-    const auto better = [&](std::size_t r, double u, std::int32_t l) {
-        return u < time[r] || (u == time[r] && l < label[r]);
+    Grid3<double>& time = out.time;
+    Grid3<std::int32_t>& code = out.label;
+    struct Extra {
+        double time;
+        std::int32_t code;
+        std::int32_t next;
     };
-    MinHeap heap;
-    for (const Seed& s : seeds)
-        if (better(s.voxel, s.value, s.label)) {
-            time[s.voxel] = s.value;
-            label[s.voxel] = s.label;
+    std::vector<Extra> pool;
+    // Open-addressed map voxel -> first list entry (voxels with more than one label only).
+    std::vector<std::uint64_t> headKey(1024, ~std::uint64_t(0));
+    std::vector<std::int32_t> headVal(1024, -1);
+    std::size_t headCount = 0;
+    const auto slotOf = [&](std::uint64_t key) {
+        const std::size_t mask = headKey.size() - 1;
+        std::size_t h = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+        while (headKey[h] != key && headKey[h] != ~std::uint64_t(0)) h = (h + 1) & mask;
+        return h;
+    };
+    const auto headOf = [&](std::size_t n) -> std::int32_t& {
+        std::size_t h = slotOf(n);
+        if (headKey[h] == ~std::uint64_t(0)) {
+            if (2 * (headCount + 1) > headKey.size()) {
+                std::vector<std::uint64_t> oldKey(headKey.size() * 2, ~std::uint64_t(0));
+                std::vector<std::int32_t> oldVal(headVal.size() * 2, -1);
+                oldKey.swap(headKey);
+                oldVal.swap(headVal);
+                for (std::size_t s = 0; s < oldKey.size(); ++s)
+                    if (oldKey[s] != ~std::uint64_t(0)) {
+                        const std::size_t t = slotOf(oldKey[s]);
+                        headKey[t] = oldKey[s];
+                        headVal[t] = oldVal[s];
+                    }
+                h = slotOf(n);
+            }
+            headKey[h] = n;
+            ++headCount;
         }
-    {
-        std::vector<HeapEntry> entries;
-        for (const Seed& s : seeds)
-            if (time[s.voxel] == s.value && label[s.voxel] == s.label) entries.push_back({s.value, s.voxel});
-        std::sort(entries.begin(), entries.end());
-        entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
-        for (const HeapEntry& e : entries) heap.push(e);
-    }
-    const std::size_t sx = 1, sy = std::size_t(dims.nx), sz = std::size_t(dims.nx) * std::size_t(dims.ny);
-    // Time of voxel n for a label, given as label + kSettled: its time if it settled with that label, else +inf.
-    const auto timeOf = [&](std::size_t n, std::int32_t settledL) { return label[n] == settledL ? time[n] : kInf; };
-    // The offer of label l to voxel r at (i, j, k).
-    const auto offer = [&](std::size_t r, int i, int j, int k, std::int32_t l) {
-        const std::int32_t settledL = l + kSettled;
-        const double ax =
-            std::min(i > 0 ? timeOf(r - sx, settledL) : kInf, i + 1 < dims.nx ? timeOf(r + sx, settledL) : kInf);
-        const double ay =
-            std::min(j > 0 ? timeOf(r - sy, settledL) : kInf, j + 1 < dims.ny ? timeOf(r + sy, settledL) : kInf);
-        const double az =
-            std::min(k > 0 ? timeOf(r - sz, settledL) : kInf, k + 1 < dims.nz ? timeOf(r + sz, settledL) : kInf);
-        const float f = (slowness ? (*slowness)[r] : 1.0f) * inverseSpeed[std::size_t(l)];
-        return upwindUpdate(ax, ay, az, f);
+        return headVal[h];
     };
-    const auto isSettled = [&](std::size_t n) { return label[n] >= kSettled; };
+    struct Ref {
+        double* time;
+        std::int32_t* code;
+    };
+    const auto find = [&](std::size_t n, std::int32_t l) -> Ref {
+        const std::int32_t c = code[n];
+        if (c < 0) return {nullptr, nullptr};
+        if ((c & kLabelMask) == l) return {&time[n], &code[n]};
+        if (!(c & kMore)) return {nullptr, nullptr};
+        for (std::int32_t e = headOf(n); e >= 0; e = pool[std::size_t(e)].next)
+            if ((pool[std::size_t(e)].code & kLabelMask) == l)
+                return {&pool[std::size_t(e)].time, &pool[std::size_t(e)].code};
+        return {nullptr, nullptr};
+    };
+    const auto timeOf = [&](std::size_t n, std::int32_t l) {
+        const std::int32_t c = code[n];
+        if (c >= 0 && (c & kLabelMask) == l) return time[n];
+        if (c < 0 || !(c & kMore)) return kInf;
+        const Ref r = find(n, l);
+        return r.time ? *r.time : kInf;
+    };
+    struct Entry {
+        double time;
+        std::size_t voxel;
+        std::int32_t label;
+        bool operator>(const Entry& o) const {
+            return time != o.time ? time > o.time : voxel != o.voxel ? voxel > o.voxel : label > o.label;
+        }
+    };
+    std::vector<Entry> heap;
+    const auto push = [&](double t, std::size_t n, std::int32_t l) {
+        heap.push_back({t, n, l});
+        std::push_heap(heap.begin(), heap.end(), std::greater<Entry>());
+    };
+    // Sets label l's time at voxel n to t (creating the entry), keeping the best pair in `out`.
+    const auto put = [&](std::size_t n, std::int32_t l, double t, std::int32_t flags) {
+        Ref r = find(n, l);
+        if (!r.time) {
+            if (code[n] < 0) {
+                time[n] = t;
+                code[n] = l | flags;
+                return;
+            }
+            std::int32_t& head = headOf(n);
+            pool.push_back({t, l | flags, head});
+            CAVESIM_CHECK(pool.size() < std::size_t(std::numeric_limits<std::int32_t>::max()),
+                          "marchLabelled: too many entries");
+            head = std::int32_t(pool.size() - 1);
+            code[n] |= kMore;
+            r = {&pool.back().time, &pool.back().code};
+        } else {
+            *r.time = t;
+            *r.code |= flags;
+        }
+        if (r.code == &code[n]) return;
+        // A list entry better than the unsettled dense one trades places with it.
+        const std::int32_t d = code[n];
+        if (d & kSettled) return;
+        if (t < time[n] || (t == time[n] && l < (d & kLabelMask))) {
+            std::swap(*r.time, time[n]);
+            const std::int32_t moved = *r.code;
+            *r.code = d & ~kMore;
+            code[n] = moved | kMore;
+        }
+    };
+    for (const Seed& s : seeds) {
+        const Ref r = find(s.voxel, s.label);
+        if (!r.time || s.value < *r.time) put(s.voxel, s.label, s.value, kSeed);
+    }
+    for (const Seed& s : seeds)
+        if (*find(s.voxel, s.label).time == s.value) heap.push_back({s.value, s.voxel, s.label});
+    std::sort(heap.begin(), heap.end(), std::greater<Entry>());  // a sorted descending vector is a heap
+    heap.erase(std::unique(heap.begin(), heap.end(),
+                           [](const Entry& a, const Entry& b) {
+                               return a.time == b.time && a.voxel == b.voxel && a.label == b.label;
+                           }),
+               heap.end());
+    std::make_heap(heap.begin(), heap.end(), std::greater<Entry>());
+    const std::size_t sx = 1, sy = std::size_t(dims.nx), sz = std::size_t(dims.nx) * std::size_t(dims.ny);
+    const auto cost = [&](std::size_t n, std::int32_t l) {
+        return (slowness ? (*slowness)[n] : 1.0f) * inverseSpeed[std::size_t(l)];
+    };
+    // Label l at voxel q (time v) is dominated by a settled label of at least its speed.
+    const auto dominated = [&](std::size_t q, const Index3& p, std::int32_t l, double v) {
+        double best = kInf;
+        const auto consider = [&](double t, std::int32_t c) {
+            const std::int32_t m = c & kLabelMask;
+            if ((c & kSettled) && m != l && labelSpeed[std::size_t(m)] >= labelSpeed[std::size_t(l)])
+                best = std::min(best, t);
+        };
+        consider(time[q], code[q]);
+        if (code[q] & kMore)
+            for (std::int32_t e = headOf(q); e >= 0; e = pool[std::size_t(e)].next)
+                consider(pool[std::size_t(e)].time, pool[std::size_t(e)].code);
+        if (!(best < v)) return false;
+        float step = 0;
+        const auto widen = [&](std::size_t n) {
+            const float f = cost(n, l);
+            if (f < std::numeric_limits<float>::infinity()) step = std::max(step, f);
+        };
+        widen(q);
+        if (p.i > 0) widen(q - sx);
+        if (p.i + 1 < dims.nx) widen(q + sx);
+        if (p.j > 0) widen(q - sy);
+        if (p.j + 1 < dims.ny) widen(q + sy);
+        if (p.k > 0) widen(q - sz);
+        if (p.k + 1 < dims.nz) widen(q + sz);
+        return best + kDominanceSteps * double(step) <= v;
+    };
     while (!heap.empty()) {
-        const double v = heap.top().first;
-        const std::size_t q = heap.top().second;
-        heap.pop();
-        if (isSettled(q) || v != time[q]) continue;  // settled already, or a stale entry
-        const std::int32_t l = label[q];
-        label[q] += kSettled;
+        const Entry e = heap.front();
+        std::pop_heap(heap.begin(), heap.end(), std::greater<Entry>());
+        heap.pop_back();
+        const std::size_t q = e.voxel;
+        const std::int32_t l = e.label;
+        const double v = e.time;
+        const Ref self = find(q, l);
+        if ((*self.code & kSettled) || v != *self.time) continue;  // settled already, or a stale entry
+        *self.code |= kSettled;
         const Index3 p = dims.coord(q);
+        const bool stop = self.code != &code[q] && dominated(q, p, l, v);
         const auto visit = [&](std::size_t r, int i, int j, int k) {
-            if (isSettled(r) || time[r] <= v) return;  // an offer from q is above v
-            const double u = offer(r, i, j, k, l);
-            if (better(r, u, l)) {
-                time[r] = u;
-                label[r] = l;
-                heap.push({u, r});
+            const Ref target = find(r, l);
+            if (stop && !target.time) return;
+            if (target.time && ((*target.code & (kSettled | kSeed)) || *target.time <= v)) return;
+            const double ax = std::min(i > 0 ? timeOf(r - sx, l) : kInf, i + 1 < dims.nx ? timeOf(r + sx, l) : kInf);
+            const double ay = std::min(j > 0 ? timeOf(r - sy, l) : kInf, j + 1 < dims.ny ? timeOf(r + sy, l) : kInf);
+            const double az = std::min(k > 0 ? timeOf(r - sz, l) : kInf, k + 1 < dims.nz ? timeOf(r + sz, l) : kInf);
+            const double u = upwindUpdate(ax, ay, az, cost(r, l));
+            if (target.time ? u < *target.time : u < kInf) {
+                put(r, l, u, 0);
+                push(u, r, l);
             }
         };
         if (p.i > 0) visit(q - sx, p.i - 1, p.j, p.k);
@@ -491,8 +623,8 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         if (p.k > 0) visit(q - sz, p.i, p.j, p.k - 1);
         if (p.k + 1 < dims.nz) visit(q + sz, p.i, p.j, p.k + 1);
     }
-    for (std::int32_t& l : label.data)
-        if (l >= kSettled) l -= kSettled;
+    for (std::int32_t& c : code.data)
+        if (c >= 0) c &= kLabelMask;
     return out;
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <tbb/global_control.h>
@@ -208,38 +209,24 @@ TEST(Labelled, EqualSpeedsSplitOnTheBisector) {
     EXPECT_LT(std::abs(count[0] - count[1]), 0.05 * (count[0] + count[1]));
 }
 
-TEST(Labelled, SpeedRatioTwoGivesApolloniusCircleWhereTheFasterFrontSeesIt) {
-    // Fronts from a (speed 2) and b (speed 1): the weighted Voronoi boundary is the Apollonius
-    // circle where |x−a| = 2|x−b|: centre b + (b−a)/3, radius 2|b−a|/3. The lines from a that
-    // touch the circle touch it at x = b_x; on the near side (x <= b_x) the labels follow the
-    // circle. Beyond b_x the circle is in the shadow of b's zone: a's front may not pass through
-    // it and goes around, so b's zone reaches farther there — never less far.
+TEST(Labelled, SpeedRatioTwoGivesApolloniusCircle) {
+    // Fronts from a (speed 2) and b (speed 1): the boundary is the Apollonius circle where
+    // |x−a| = 2|x−b|: centre b + (b−a)/3, radius 2|b−a|/3.
     const Dims d{81, 81, 1};
     const double ax = 25, ay = 40, bx = 49, by = 40;
     const auto out = marchLabelled(d, nullptr, {{d.index(25, 40, 0), 0, 0}, {d.index(49, 40, 0), 0, 1}}, {2.0, 1.0});
     const double cx = bx + (bx - ax) / 3, cy = by + (by - ay) / 3, rad = 2 * (bx - ax) / 3;
-    int wrong = 0, checked = 0, shadow = 0;
+    int wrong = 0, checked = 0;
     for (int j = 0; j < d.ny; ++j)
         for (int i = 0; i < d.nx; ++i) {
             const double r = std::hypot(i - cx, j - cy);
             const int expect = r < rad ? 1 : 0;
-            const int got = out.label.at(i, j, 0);
-            if (i > bx) {
-                if (got != expect) {
-                    EXPECT_EQ(got, 1) << i << "," << j;  // b's zone reaches farther, a's never
-                    ++shadow;
-                }
-                continue;
-            }
             if (std::abs(r - rad) < 2.5) continue;  // first-order band around the circle
             ++checked;
-            wrong += got != expect;
+            wrong += out.label.at(i, j, 0) != expect;
         }
-    EXPECT_GT(checked, 3000);
-    EXPECT_EQ(wrong, 0);
-    EXPECT_GT(shadow, 50);                       // the far side of the circle is in b's zone
-    EXPECT_EQ(out.label.at(75, 40, 0), 1);       // 2 voxels beyond the circle, behind b
-    EXPECT_EQ(out.label.at(49, 40 + 20, 0), 0);  // beside b, outside the circle: a's
+    EXPECT_GT(checked, 5000);
+    EXPECT_LT(wrong, checked / 200);
 }
 
 TEST(Labelled, ImpassableVoxelsAreNotReached) {
@@ -296,15 +283,16 @@ TEST(Labelled, RowGivesExactTimes) {
     EXPECT_EQ(tie.label.at(6, 0, 0), 1);
 }
 
-TEST(Labelled, FrontUsesOnlyItsOwnVoxels) {
+TEST(Labelled, FrontsPassThroughEachOthersVoxels) {
     // 2×2: label 0 starts at (0,0) at time 0, label 1 at (1,0) at time 0.9, both speed 1.
-    // Label 1 holds (1,0) (0.9 < 1). At (1,1) label 0 may use only (0,1) (time 1), one-sided:
-    // 2; label 1 offers 0.9 + 1 = 1.9 and wins. (Two fronts marched alone and merged would give
-    // label 0's two-sided (2 + √2) / 2 = 1.707 there.)
+    // Label 1 holds (1,0) (0.9 < 1), but label 0's own time there (1) is within the dominance
+    // margin, so label 0 still propagates from it: at (1,1) label 0's two-sided update
+    // (2 + √2) / 2 = 1.707 beats label 1's 0.9 + 1 = 1.9, as with fronts marched alone.
     const Dims d{2, 2, 1};
     const auto out = marchLabelled(d, nullptr, {{d.index(0, 0, 0), 0, 0}, {d.index(1, 0, 0), 0.9, 1}}, {1.0, 1.0});
-    EXPECT_EQ(out.label.data, (std::vector<std::int32_t>{0, 1, 0, 1}));
-    EXPECT_EQ(out.time.data, (std::vector<double>{0, 0.9, 1, 0.9 + 1.0}));
+    EXPECT_EQ(out.label.data, (std::vector<std::int32_t>{0, 1, 0, 0}));
+    EXPECT_EQ(out.time.data,
+              (std::vector<double>{0, 0.9, 1, upwindUpdate(1, 1, std::numeric_limits<double>::infinity(), 1)}));
 }
 
 /// Exact multiplicatively weighted Voronoi label of voxel (i, j, k): argmin |x − s_l| / p_l
@@ -405,48 +393,98 @@ TEST(Labelled, MirroredInputGivesMirroredLabels) {
     }
 }
 
-TEST(Labelled, ZonesAreConnectedAndTheResultIsTheSameForAnyThreadCount) {
-    // Five labels (one without seeds) through random slowness with impassable voxels. Every voxel
-    // of a zone is reached through its own zone: a face neighbour of the same label has a
-    // smaller time (or it is a seed). The result is the same with one thread and with all.
+/// The per-front minimum: each label's front marched alone over the block (EikonalField at the
+/// label's slowness, the same float product), merged by (time, label).
+LabelledArrival frontsMarchedAlone(const Dims& d, const Grid3<float>* s, const std::vector<Seed>& seeds,
+                                   const std::vector<double>& speed) {
+    LabelledArrival expect{Grid3<double>(d, std::numeric_limits<double>::infinity()), Grid3<std::int32_t>(d, -1)};
+    for (int label = 0; label < int(speed.size()); ++label) {
+        std::vector<Seed> own;
+        for (Seed q : seeds)
+            if (q.label == label) own.push_back({q.voxel, q.value, 0});
+        if (own.empty()) continue;
+        Grid3<float> ls(d);
+        const float inv = float(1.0 / speed[std::size_t(label)]);
+        for (std::size_t v = 0; v < d.count(); ++v) ls[v] = (s ? (*s)[v] : 1.0f) * inv;
+        EikonalField f;
+        f.solve(d, ls, own, std::numeric_limits<double>::infinity());
+        for (std::size_t v = 0; v < d.count(); ++v)
+            if (f.value()[v] < expect.time[v]) {
+                expect.time[v] = f.value()[v];
+                expect.label[v] = label;
+            }
+    }
+    return expect;
+}
+
+void expectSame(const LabelledArrival& got, const LabelledArrival& expect, const std::string& what) {
+    ASSERT_EQ(got.label.data, expect.label.data) << what;
+    for (std::size_t v = 0; v < got.time.size(); ++v)
+        ASSERT_TRUE(got.time[v] == expect.time[v] || (std::isinf(got.time[v]) && std::isinf(expect.time[v])))
+            << what << " voxel " << v;
+}
+
+TEST(Labelled, EqualsFrontsMarchedAloneForAnyThreadCount) {
+    // Five labels (one without seeds) through random slowness with impassable voxels, a seed
+    // shared by two labels and a seed starting late: the labels and times are the per-front
+    // minimum bit for bit, with one thread and with two.
     const Dims d{23, 17, 9};
     const Grid3<float> s = randomSlowness(d, 5);
     const std::vector<double> speed{1.0, 1.7, 0.8, 1.2, 2.5};
     const std::vector<Seed> seeds{{d.index(2, 3, 4), 0, 0},   {d.index(20, 3, 1), 0.5, 1}, {d.index(11, 15, 7), 0, 2},
                                   {d.index(12, 15, 7), 0, 2}, {d.index(5, 10, 0), 0, 4},   {d.index(2, 3, 4), 0, 4}};
-    LabelledArrival first;
+    const LabelledArrival expect = frontsMarchedAlone(d, &s, seeds, speed);
     for (int threads : {1, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-        const auto got = marchLabelled(d, &s, seeds, speed);
-        if (threads == 1) {
-            first = got;
-            continue;
-        }
-        ASSERT_EQ(got.label.data, first.label.data);
-        for (std::size_t v = 0; v < d.count(); ++v)
-            ASSERT_TRUE(got.time[v] == first.time[v] || (std::isinf(got.time[v]) && std::isinf(first.time[v]))) << v;
+        expectSame(marchLabelled(d, &s, seeds, speed), expect, std::to_string(threads) + " thread(s)");
     }
-    std::vector<std::uint8_t> isSeed(d.count(), 0);
-    for (const Seed& q : seeds) isSeed[q.voxel] = 1;
-    long reached = 0;
-    for (int k = 0; k < d.nz; ++k)
-        for (int j = 0; j < d.ny; ++j)
-            for (int i = 0; i < d.nx; ++i) {
-                const std::size_t v = d.index(i, j, k);
-                if (first.label[v] < 0 || isSeed[v]) continue;
-                ++reached;
-                bool fromOwn = false;
-                for (const auto& o : faceNeighbours())
-                    if (d.contains(i + o.di, j + o.dj, k + o.dk)) {
-                        const std::size_t n = d.index(i + o.di, j + o.dj, k + o.dk);
-                        fromOwn = fromOwn || (first.label[n] == first.label[v] && first.time[n] < first.time[v]);
-                    }
-                ASSERT_TRUE(fromOwn) << i << "," << j << "," << k;
-            }
-    EXPECT_GT(reached, long(d.count()) / 2);
     // Label 4 shares a seed voxel with label 0 at the same time: the lower label keeps it.
-    EXPECT_EQ(first.label[d.index(2, 3, 4)], 0);
-    EXPECT_EQ(std::count(first.label.data.begin(), first.label.data.end(), 3), 0);
+    EXPECT_EQ(expect.label[d.index(2, 3, 4)], 0);
+    EXPECT_EQ(std::count(expect.label.data.begin(), expect.label.data.end(), 3), 0);
+}
+
+TEST(Labelled, EqualsFrontsMarchedAloneOnRandomInputs) {
+    // 2–8 labels with equal and unequal speeds at random seeds (some starting late), in uniform
+    // rock, in smooth slowness (a product of sines) and in rough slowness (independent per voxel
+    // in [0.5, 2], some with walls): the labels are the per-front minimum's, bit for bit. The
+    // times are too except for a few: a first-order update depends on every voxel between the
+    // source and it (monotone lattice paths), not only on those near its ray, so a time beside
+    // a zone boundary can take in, with a tiny weight, a front's time from where it has stopped
+    // (docs/model.md "Zones").
+    long off = 0, total = 0;
+    double worst = 0;
+    for (unsigned trial = 0; trial < 300; ++trial) {
+        std::mt19937 rng(100 + trial);
+        const Dims d{int(8 + rng() % 25), int(8 + rng() % 20), int(1 + rng() % 12)};
+        const int kind = int(trial % 3);  // 0 uniform, 1 smooth, 2 rough
+        Grid3<float> s = randomSlowness(d, 200 + trial, trial % 2 == 0);
+        if (kind == 1) {
+            const double fx = 0.2 + 0.1 * (rng() % 5), fy = 0.15 + 0.1 * (rng() % 5), fz = 0.3;
+            for (int k = 0; k < d.nz; ++k)
+                for (int j = 0; j < d.ny; ++j)
+                    for (int i = 0; i < d.nx; ++i)
+                        s.at(i, j, k) = float(1.2 + 0.7 * std::sin(fx * i) * std::cos(fy * j + 0.5 * std::sin(fz * k)));
+        }
+        const int labels = int(2 + rng() % 7);
+        std::vector<double> speed(std::size_t(labels), 1.0);
+        if (trial % 4 >= 2)
+            for (double& p : speed) p = std::vector<double>{0.6, 1.0, 1.5, 2.0, 3.0}[rng() % 5];
+        std::vector<Seed> seeds;
+        for (int l = 0; l < labels; ++l) seeds.push_back({rng() % d.count(), double(rng() % 3) * 0.25, l});
+        const Grid3<float>* slow = kind == 0 ? nullptr : &s;
+        const LabelledArrival expect = frontsMarchedAlone(d, slow, seeds, speed);
+        const LabelledArrival got = marchLabelled(d, slow, seeds, speed);
+        ASSERT_EQ(got.label.data, expect.label.data) << "trial " << trial;
+        for (std::size_t v = 0; v < d.count(); ++v) {
+            ++total;
+            if (got.time[v] == expect.time[v] || (std::isinf(got.time[v]) && std::isinf(expect.time[v]))) continue;
+            ++off;
+            worst = std::max(worst, std::abs(got.time[v] - expect.time[v]) / expect.time[v]);
+        }
+    }
+    std::printf("times off %ld of %ld, worst relative %g\n", off, total, worst);
+    EXPECT_LT(off, total / 100);
+    EXPECT_LT(worst, 1e-3);
 }
 
 TEST(Labelled, BadInputThrows) {
