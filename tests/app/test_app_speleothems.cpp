@@ -17,15 +17,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Roughness 0.4: the small cave's ceiling must have convex patches (drip sites) for growth to run
-// its years; at 0.3 the cave made since the labelled zone march has none (`years` 0, rightly).
 const std::string kDecorated = std::string("name = \"small_decorated\"\n") + apptest::kSmallCave + R"([output]
 image_width = 256
 [speleothems]
 enabled = true
 years = 2000
 voxel_size = 0.25
-roughness = 0.4
+roughness = 0.3
 roughness_scale = 1.5
 frames = 2
 )";

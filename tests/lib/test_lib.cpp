@@ -164,9 +164,7 @@ TEST(Lib, RunMatchesTheCommandByteForByte) {
     ASSERT_NE(bt, std::string::npos);
     ASSERT_TRUE(rep.breakthroughIteration.has_value());
     EXPECT_EQ(std::to_string(*rep.breakthroughIteration), cliJson.substr(bt + 26, cliJson.find(',', bt) - bt - 26));
-    // Source 2 joins at iteration 166 since the labelled zone march moved the zones (140 before), so
-    // after the 150 iterations one source of two is connected.
-    EXPECT_EQ(rep.sourcesConnected, 1);
+    EXPECT_EQ(rep.sourcesConnected, 2);
     EXPECT_EQ(rep.iterations, 150);
     EXPECT_EQ(r.skeleton().nodes.size(), std::size_t(rep.skeletonNodes));
     EXPECT_EQ(r.mesh().triangles.size(), std::size_t(rep.meshFaces));

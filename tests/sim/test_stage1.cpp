@@ -113,9 +113,7 @@ TEST(Stage1, EqualPressuresSplitOnTheBisector) {
 
 TEST(Stage1, PressureRatioTwoGivesTheApolloniusSphere) {
     // Uniform rock, pressures 2 : 1. The weak source B keeps the points twice as far from A as
-    // from B: |x − A| > 2 |x − B|, a sphere of radius 2D/3 around B + (B − A)/3 (D = 29). Beyond
-    // the plane x = 44 through B the sphere is in B's shadow: A's front goes around B's zone and
-    // B's zone reaches a little farther there (docs/model.md, "Zones").
+    // from B: |x − A| > 2 |x − B|, a sphere of radius 2D/3 around B + (B − A)/3 (D = 29).
     const Stage1Run r = runText(header("ratio", 60, 40, 20) +
                                 "[[source]]\nat = [15, 20, 10]\npressure = 2.0\n[[source]]\nat = [44, 20, 10]\n"
                                 "pressure = 1.0\n[stage1]\npermeability = \"uniform\"\n" +
