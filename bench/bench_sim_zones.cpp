@@ -1,7 +1,8 @@
 // Stage 1's pressure-zone division alone (`pressureZones`, the labelled march of all sources) on
 // scenarios/scale_512.toml (512×512×128, six sources) and on the Figure 10 scenario scaled by k,
 // with the process's user CPU time and the rise of resident memory during the march (VmHWM after
-// `clear_refs` 5). Building the domain is not timed.
+// `clear_refs` 5). Building the domain is not timed. `BM_ZoneMarchScale512Unequal`: the same
+// block with unequal source pressures.
 #include <string>
 
 #include <benchmark/benchmark.h>
@@ -43,6 +44,16 @@ void BM_ZoneMarchScale512(benchmark::State& state) {
     zoneMarch(state, parseScenarioFile(std::string(CAVESIM_SOURCE_DIR) + "/scenarios/scale_512.toml"));
 }
 BENCHMARK(BM_ZoneMarchScale512)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+// The same block with unequal pressures (3, 1.5, 1, 1, 2, 1, in the scenario's order): the
+// stronger fronts cross the weaker zones, as per-source minima require.
+void BM_ZoneMarchScale512Unequal(benchmark::State& state) {
+    Scenario s = parseScenarioFile(std::string(CAVESIM_SOURCE_DIR) + "/scenarios/scale_512.toml");
+    const double pressure[] = {3.0, 1.5, 1.0, 1.0, 2.0, 1.0};
+    for (std::size_t i = 0; i < s.sources.size(); ++i) s.sources[i].pressure = pressure[i % 6];
+    zoneMarch(state, s);
+}
+BENCHMARK(BM_ZoneMarchScale512Unequal)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 void BM_ZoneMarchScaledFig10(benchmark::State& state) {
     zoneMarch(state, scaledFig10(int(state.range(0))));
