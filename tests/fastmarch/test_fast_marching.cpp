@@ -338,11 +338,9 @@ long wrongAwayFromBoundaries(const Dims& d, const LabelledArrival& out, const st
 }
 
 TEST(Labelled, UnequalSpeedsGiveTheWeightedVoronoiCellsInTwoAndThreeSources) {
-    // Uniform rock, 3D. The slower fronts start on the +x face: a slower zone is a ball (the
-    // Apollonius sphere) whose far side — where a faster front would have to go around it —
-    // lies beyond the plane through its source across the line to the faster source, outside
-    // this block. Then the labels are the weighted Voronoi cells except within one voxel of a
-    // boundary.
+    // Uniform rock, 3D, two and three sources of unequal speeds (the slower ones on the +x
+    // face): the labels are the weighted Voronoi cells (Apollonius spheres) except within one
+    // voxel of a boundary.
     const Dims d{40, 32, 20};
     const std::vector<Index3> two{{6, 16, 10}, {39, 14, 8}};
     const std::vector<double> p2{2.0, 1.0};
