@@ -67,9 +67,18 @@ struct Sample {
 
 std::vector<Sample> surfaceSamples(const FloatGrid& grid, double shellVoxels, bool wantCurvature) {
     const double h = grid.voxelSize()[0];
+    // The voxels within the shell, in the grid's own order (leaf by leaf), gathered per leaf in
+    // parallel.
+    std::vector<const FloatGrid::TreeType::LeafNodeType*> leaves;
+    grid.tree().getNodes(leaves);
+    std::vector<std::vector<Coord>> perLeaf(leaves.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 64), [&](const auto& range) {
+        for (std::size_t l = range.begin(); l < range.end(); ++l)
+            for (auto it = leaves[l]->cbeginValueOn(); it; ++it)
+                if (std::abs(*it) < shellVoxels * h) perLeaf[l].push_back(it.getCoord());
+    });
     std::vector<Coord> coords;
-    for (auto it = grid.cbeginValueOn(); it; ++it)
-        if (std::abs(*it) < shellVoxels * h) coords.push_back(it.getCoord());
+    for (const auto& c : perLeaf) coords.insert(coords.end(), c.begin(), c.end());
     std::vector<Sample> out(coords.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coords.size(), 4096), [&](const auto& range) {
         auto acc = grid.getConstAccessor();
@@ -253,18 +262,26 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         auto acc = sp->getAccessor();
         for (std::size_t n = 0; n < s.size(); ++n)
             if (a.speed[n] > 0) acc.setValue(s[n].c, float(a.speed[n]));
+        // Only a voxel within two voxels (along an axis) of a growing one can be squeezed.
+        using MaskTree = FloatGrid::TreeType::ValueConverter<openvdb::ValueMask>::Type;
+        MaskTree near(sp->tree(), false, openvdb::TopologyCopy());
+        openvdb::tools::dilateActiveValues(near, 2, openvdb::tools::NN_FACE, openvdb::tools::IGNORE_TILES);
         std::vector<double> extra(s.size(), 0.0);
-        for (std::size_t n = 0; n < s.size(); ++n) {
-            if (a.speed[n] > 0) continue;
-            for (int axis = 0; axis < 3; ++axis) {
-                for (int reach = 1; reach <= 2; ++reach) {
-                    Coord d(0, 0, 0);
-                    d[axis] = reach;
-                    const float lo = acc.getValue(s[n].c - d), hi = acc.getValue(s[n].c + d);
-                    if (lo > 0 && hi > 0) extra[n] = std::max(extra[n], double(std::min(lo, hi)));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.size(), 4096), [&](const auto& range) {
+            const auto speedAt = sp->getConstAccessor();
+            const openvdb::tree::ValueAccessor<const MaskTree> nearAt(near);
+            for (std::size_t n = range.begin(); n < range.end(); ++n) {
+                if (a.speed[n] > 0 || !nearAt.isValueOn(s[n].c)) continue;
+                for (int axis = 0; axis < 3; ++axis) {
+                    for (int reach = 1; reach <= 2; ++reach) {
+                        Coord d(0, 0, 0);
+                        d[axis] = reach;
+                        const float lo = speedAt.getValue(s[n].c - d), hi = speedAt.getValue(s[n].c + d);
+                        if (lo > 0 && hi > 0) extra[n] = std::max(extra[n], double(std::min(lo, hi)));
+                    }
                 }
             }
-        }
+        });
         for (std::size_t n = 0; n < s.size(); ++n) a.speed[n] = std::max(a.speed[n], extra[n]);
     }
     std::sort(a.stalactites.begin(), a.stalactites.end(), [](const Stalactite& x, const Stalactite& y) {
