@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
 #include "core/text.h"
@@ -27,8 +28,21 @@ constexpr double kFixedNs = 5000;
 constexpr double kIterationNs = 40;
 constexpr double kLargestZone = 1.3;  // the largest zone against an equal share of the block (fig10 k = 1…3)
 
+// The speleothem stage (docs/speleothems.md, "Pre-flight", for the measurements).
+constexpr double kCaveSurfacePerBoxArea = 0.14;  // cave surface / bounding-box area (fig10: 1 680 / 12 000 m²)
+constexpr double kSpeleoBandVoxels = 6.0;        // level-set voxels per A/h² (band of ±3 voxels)
+constexpr double kSpeleoBytes = 270;             // peak bytes per level-set voxel (frame copies, meshes, samples)
+constexpr double kSpeleoSetupNs = 19000;         // per level-set voxel: level set, relief, meshes, pictures
+constexpr double kSpeleoStepNs = 330;            // per level-set voxel and growth step
+
 std::string megabytes(double bytes) {
     return withThousands(long(std::ceil(bytes / 1e6))) + " MB";
+}
+
+std::string roughTime(double seconds) {
+    if (seconds < 90) return std::to_string(std::max(1L, std::lround(seconds))) + " s";
+    if (seconds < 5400) return std::to_string(std::lround(seconds / 60)) + " min";
+    return std::to_string(std::lround(seconds / 3600)) + " h";
 }
 
 }  // namespace
@@ -67,20 +81,52 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
         e.peakBytes = e.stage2Bytes;
         e.peakPhase = "stage 2";
     }
-    e.peakBytes += kProgramBytes;
     e.seconds = n * kFixedNs * 1e-9 + (s.stage2.enabled ? n * double(s.stage2.iterations) * kIterationNs * 1e-9 : 0);
+    if (s.speleothems.enabled) {
+        estimateSpeleothems(s, expectedCaveSurface(s), e);
+        e.speleoBytes += domain;
+        e.seconds += e.speleoSeconds;
+        if (e.speleoBytes > e.peakBytes) {
+            e.peakBytes = e.speleoBytes;
+            e.peakPhase = "speleothems";
+        }
+    }
+    e.peakBytes += kProgramBytes;
     return e;
 }
 
+double expectedCaveSurface(const Scenario& s) {
+    const double x = s.size[0] * s.voxelSize, y = s.size[1] * s.voxelSize, z = s.size[2] * s.voxelSize;
+    return kCaveSurfacePerBoxArea * 2 * (x * y + x * z + y * z);
+}
+
+void estimateSpeleothems(const Scenario& s, double surfaceM2, RunEstimate& e) {
+    const SpeleothemOptions& o = s.speleothems;
+    e.speleoSurfaceM2 = e.speleoVoxels = e.speleoSteps = e.speleoBytes = e.speleoSeconds = 0;
+    if (!o.enabled || !(o.voxelSize > 0)) return;
+    const double h = o.voxelSize;
+    e.speleoSurfaceM2 = surfaceM2;
+    e.speleoVoxels = kSpeleoBandVoxels * surfaceM2 / (h * h);
+    e.speleoBytes = kSpeleoBytes * e.speleoVoxels;
+    // Steps: the stable step moves the fastest tip half a voxel; `time_step` caps it.
+    const double vmax = o.alpha * o.lQ * std::exp(std::abs(o.dripVariability));  // α·l_Q at the fastest site
+    double dt = vmax > 0 ? 0.5 * h / vmax : o.years;
+    if (o.timeStep > 0) dt = std::min(dt, o.timeStep);
+    e.speleoSteps = o.drained && dt > 0 ? std::ceil(o.years / dt) : 0;
+    e.speleoSeconds = e.speleoVoxels * (kSpeleoSetupNs + e.speleoSteps * kSpeleoStepNs) * 1e-9;
+}
+
 std::string describeEstimate(const RunEstimate& e) {
-    std::string time;
-    if (e.seconds < 90)
-        time = std::to_string(std::max(1L, std::lround(e.seconds))) + " s";
-    else if (e.seconds < 5400)
-        time = std::to_string(std::lround(e.seconds / 60)) + " min";
-    else
-        time = std::to_string(std::lround(e.seconds / 3600)) + " h";
-    return "peak memory about " + megabytes(e.peakBytes) + " (" + e.peakPhase + "), time roughly " + time;
+    std::string text =
+        "peak memory about " + megabytes(e.peakBytes) + " (" + e.peakPhase + "), time roughly " + roughTime(e.seconds);
+    if (e.speleoVoxels > 0) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, " (speleothems: about %.1f M level-set voxels for %s m² of cave, %ld steps, %s)",
+                      e.speleoVoxels / 1e6, withThousands(std::lround(e.speleoSurfaceM2)).c_str(),
+                      std::lround(e.speleoSteps), roughTime(e.speleoSeconds).c_str());
+        text += buf;
+    }
+    return text;
 }
 
 void checkMemory(const RunEstimate& e, const MemoryLimits& limits) {

@@ -1,13 +1,15 @@
 #include "speleo/speleothems.h"
 
+#include <openvdb/math/Operators.h>
+#include <openvdb/math/Stencils.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Clip.h>
 #include <openvdb/tools/Interpolation.h>
-#include <openvdb/tools/LevelSetAdvect.h>
 #include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/LevelSetTracker.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/Morphology.h>
 #include <openvdb/tools/SignedFloodFill.h>
-#include <openvdb/tools/VelocityFields.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -32,6 +34,7 @@ using openvdb::FloatGrid;
 using openvdb::Vec3d;
 
 constexpr int kHalfWidth = 3;            // band half width, voxels
+constexpr int kTrackReach = 10;          // the band is renormalised within this many voxels of a moving one
 constexpr double kShell = 2.0;           // stalactite points lie within this many voxels of the surface
 constexpr double kTipFacing = 0.7071;    // a tip faces down within 45° of vertical
 constexpr double kDripNoiseScale = 1.0;  // metres, feature size of the drip variability
@@ -64,9 +67,18 @@ struct Sample {
 
 std::vector<Sample> surfaceSamples(const FloatGrid& grid, double shellVoxels, bool wantCurvature) {
     const double h = grid.voxelSize()[0];
+    // The voxels within the shell, in the grid's own order (leaf by leaf), gathered per leaf in
+    // parallel.
+    std::vector<const FloatGrid::TreeType::LeafNodeType*> leaves;
+    grid.tree().getNodes(leaves);
+    std::vector<std::vector<Coord>> perLeaf(leaves.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 64), [&](const auto& range) {
+        for (std::size_t l = range.begin(); l < range.end(); ++l)
+            for (auto it = leaves[l]->cbeginValueOn(); it; ++it)
+                if (std::abs(*it) < shellVoxels * h) perLeaf[l].push_back(it.getCoord());
+    });
     std::vector<Coord> coords;
-    for (auto it = grid.cbeginValueOn(); it; ++it)
-        if (std::abs(*it) < shellVoxels * h) coords.push_back(it.getCoord());
+    for (const auto& c : perLeaf) coords.insert(coords.end(), c.begin(), c.end());
     std::vector<Sample> out(coords.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coords.size(), 4096), [&](const auto& range) {
         auto acc = grid.getConstAccessor();
@@ -250,18 +262,26 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         auto acc = sp->getAccessor();
         for (std::size_t n = 0; n < s.size(); ++n)
             if (a.speed[n] > 0) acc.setValue(s[n].c, float(a.speed[n]));
+        // Only a voxel within two voxels (along an axis) of a growing one can be squeezed.
+        using MaskTree = FloatGrid::TreeType::ValueConverter<openvdb::ValueMask>::Type;
+        MaskTree near(sp->tree(), false, openvdb::TopologyCopy());
+        openvdb::tools::dilateActiveValues(near, 2, openvdb::tools::NN_FACE, openvdb::tools::IGNORE_TILES);
         std::vector<double> extra(s.size(), 0.0);
-        for (std::size_t n = 0; n < s.size(); ++n) {
-            if (a.speed[n] > 0) continue;
-            for (int axis = 0; axis < 3; ++axis) {
-                for (int reach = 1; reach <= 2; ++reach) {
-                    Coord d(0, 0, 0);
-                    d[axis] = reach;
-                    const float lo = acc.getValue(s[n].c - d), hi = acc.getValue(s[n].c + d);
-                    if (lo > 0 && hi > 0) extra[n] = std::max(extra[n], double(std::min(lo, hi)));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.size(), 4096), [&](const auto& range) {
+            const auto speedAt = sp->getConstAccessor();
+            const openvdb::tree::ValueAccessor<const MaskTree> nearAt(near);
+            for (std::size_t n = range.begin(); n < range.end(); ++n) {
+                if (a.speed[n] > 0 || !nearAt.isValueOn(s[n].c)) continue;
+                for (int axis = 0; axis < 3; ++axis) {
+                    for (int reach = 1; reach <= 2; ++reach) {
+                        Coord d(0, 0, 0);
+                        d[axis] = reach;
+                        const float lo = speedAt.getValue(s[n].c - d), hi = speedAt.getValue(s[n].c + d);
+                        if (lo > 0 && hi > 0) extra[n] = std::max(extra[n], double(std::min(lo, hi)));
+                    }
                 }
             }
-        }
+        });
         for (std::size_t n = 0; n < s.size(); ++n) a.speed[n] = std::max(a.speed[n], extra[n]);
     }
     std::sort(a.stalactites.begin(), a.stalactites.end(), [](const Stalactite& x, const Stalactite& y) {
@@ -277,24 +297,101 @@ double maxSpeed(const Analysis& a) {
     return m;
 }
 
+/// Two RK2 stages of OpenVDB's `LevelSetAdvection` (fifth-order upwind WENO, TVD Runge-Kutta),
+/// on the moving voxels only: the update φ − dt·V·∇φ is φ itself where V = 0, so the still
+/// voxels need no work. The same arithmetic as OpenVDB's, voxel by voxel.
+template <typename MapT>
+void advectStages(FloatGrid& grid, const MapT& map, const std::vector<Coord>& at,
+                  const std::vector<openvdb::Vec3f>& vel, float dt) {
+    using Stencil = openvdb::math::BIAS_SCHEME<openvdb::math::HJWENO5_BIAS>::ISStencil<FloatGrid>::StencilType;
+    using Grad = openvdb::math::GradientBiased<MapT, openvdb::math::HJWENO5_BIAS>;
+    const std::size_t n = at.size();
+    std::vector<float> phi0(n), next(n);
+    const auto stage = [&](bool second) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+            Stencil st(grid);
+            for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                st.moveTo(at[i]);
+                if (!second) phi0[i] = st.getValue();
+                const float v = st.getValue() - dt * vel[i].dot(Grad::result(map, st, vel[i]));
+                next[i] = second ? 0.5f * phi0[i] + 0.5f * v : v;
+            }
+        });
+        auto acc = grid.getAccessor();
+        for (std::size_t i = 0; i < n; ++i) acc.setValueOnly(at[i], next[i]);
+    };
+    stage(false);
+    stage(true);
+}
+
+/// Advects the level set by the analysis' normal speeds for `years` years. The moving voxels
+/// take OpenVDB's `LevelSetAdvection` step (HJWENO5, TVD-RK2, CFL sub-steps); the band is then
+/// dilated, renormalised (three TVD-RK1 iterations, `LevelSetTracker`) and trimmed only within
+/// `kTrackReach` voxels of a moving voxel: the still surface far from any growth keeps its
+/// distances as they are (a whole-band renormalisation would cost a pass over every voxel each
+/// step and slowly round the still relief).
 void advect(FloatGrid::Ptr& grid, const Analysis& a, double years) {
-    openvdb::Vec3fGrid::Ptr vel = openvdb::Vec3fGrid::create(openvdb::Vec3f(0.f));
-    vel->setTransform(grid->transform().copy());
-    // Speeds are scaled by the largest, and time by it in turn (OpenVDB treats speeds below
-    // ~3e-3 per unit time as zero; ours are ~1e-4 m/yr).
     const double vmax = maxSpeed(a);
     if (!(vmax > 0) || !(years > 0)) return;
-    auto acc = vel->getAccessor();
+    std::vector<Coord> at;
+    std::vector<openvdb::Vec3f> vel;
     for (std::size_t n = 0; n < a.samples.size(); ++n)
-        if (a.speed[n] > 0) acc.setValue(a.samples[n].c, a.samples[n].nAir * float(a.speed[n] / vmax));
-    using Field = openvdb::tools::DiscreteField<openvdb::Vec3fGrid, openvdb::tools::BoxSampler>;
-    Field field(*vel);
-    openvdb::tools::LevelSetAdvection<FloatGrid, Field> adv(*grid, field);
-    adv.setSpatialScheme(openvdb::math::HJWENO5_BIAS);
-    adv.setTemporalScheme(openvdb::math::TVD_RK2);
-    adv.setTrackerSpatialScheme(openvdb::math::HJWENO5_BIAS);
-    adv.setTrackerTemporalScheme(openvdb::math::TVD_RK1);
-    adv.advect(0.0, years * vmax);
+        if (a.speed[n] > 0) {
+            // Speeds are scaled by the largest, and time by it in turn (as OpenVDB's advection
+            // wants: it treats speeds below ~3e-3 per unit time as zero; ours are ~1e-4 m/yr).
+            const openvdb::Vec3f v = a.samples[n].nAir * float(a.speed[n] / vmax);
+            if (v != openvdb::Vec3f(0.f)) {
+                at.push_back(a.samples[n].c);
+                vel.push_back(v);
+            }
+        }
+    if (at.empty()) return;
+    using MaskTree = FloatGrid::TreeType::ValueConverter<openvdb::ValueMask>::Type;
+    MaskTree moving;
+    for (const Coord& c : at) moving.setValueOn(c);
+    const auto* map = grid->transform().constMap<openvdb::math::UniformScaleMap>().get();
+    CAVESIM_CHECK(map != nullptr, "the decoration level set needs a uniform scale transform");
+    const float h = float(grid->voxelSize()[0]);
+    // OpenVDB's CFL number for TVD-RK2 and its sub-steps, in its float arithmetic.
+    const float cfl = 0.9f / std::sqrt(3.0f);
+    float time0 = 0.f;
+    const float time1 = float(years * vmax);
+    while (time0 < time1 && !at.empty()) {
+        float maxAbsV = 0;
+        for (const openvdb::Vec3f& v : vel) maxAbsV = std::max(maxAbsV, v.lengthSqr());
+        if (openvdb::math::isApproxZero(maxAbsV, openvdb::math::Delta<float>::value())) break;
+        const float dt = std::min(std::abs(time1 - time0), cfl * h / std::sqrt(maxAbsV));
+        if (openvdb::math::isZero(dt)) break;
+        advectStages(*grid, *map, at, vel, dt);
+        time0 += dt;
+
+        // Track the band near the moving voxels: dilate by one voxel (faces), renormalise, trim.
+        MaskTree grow(moving);
+        openvdb::tools::dilateActiveValues(grow, kTrackReach - 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                           openvdb::tools::IGNORE_TILES);
+        MaskTree region(grow);
+        openvdb::tools::dilateActiveValues(region, 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                           openvdb::tools::IGNORE_TILES);
+        grow.topologyIntersection(grid->tree());
+        openvdb::tools::dilateActiveValues(grow, 1, openvdb::tools::NN_FACE, openvdb::tools::IGNORE_TILES);
+        grid->tree().topologyUnion(grow);
+        region.topologyIntersection(grid->tree());
+        openvdb::tools::LevelSetTracker<FloatGrid> tracker(*grid);
+        tracker.setSpatialScheme(openvdb::math::HJWENO5_BIAS);
+        tracker.setTemporalScheme(openvdb::math::TVD_RK1);
+        tracker.normalize(&region);
+        tracker.prune();
+        // Voxels trimmed out of the band take no further sub-step.
+        std::size_t k = 0;
+        const auto acc = grid->getConstAccessor();
+        for (std::size_t i = 0; i < at.size(); ++i)
+            if (acc.isValueOn(at[i])) {
+                at[k] = at[i];
+                vel[k++] = vel[i];
+            }
+        at.resize(k);
+        vel.resize(k);
+    }
 }
 
 }  // namespace

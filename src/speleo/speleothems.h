@@ -27,9 +27,10 @@
 ///     the drip axis, R `stalagmiteRadius`, W = stalagmiteRate × the tip speed of the stalactite
 ///     above: the drip feeds both), a Gaussian reading of the equilibrium-radius profile of
 ///     Kaufmann (2003).
-///  5. The level set is advected by that normal speed (OpenVDB `LevelSetAdvection`, fifth-order
-///     upwind WENO, TVD Runge-Kutta, its own CFL sub-steps, renormalised after each); speeds
-///     are recomputed every step.
+///  5. The level set is advected by that normal speed: OpenVDB `LevelSetAdvection`'s update
+///     (fifth-order upwind WENO, TVD Runge-Kutta 2, its CFL sub-steps) on the moving voxels only
+///     (elsewhere the update is the identity), then the band is dilated, renormalised and
+///     trimmed within 10 voxels of them; speeds are recomputed every step.
 /// Stable step: the fastest point moves at most half a level-set voxel per speed update,
 /// Δt = 0.5·h / v_max (capped by `timeStep` when it is set).
 ///

@@ -132,6 +132,15 @@ grep -q "peak memory about" stdout.txt && pass "estimate printed" || fail "no es
 expect_exit 2 "run larger than the memory limit" -- bash -c "ulimit -v 2000000; exec \"$CAVESIM\" run huge.toml --out o13 -q"
 stderr_has "this process may use"
 [ ! -e o13 ] && pass "no output for the refused run" || fail "o13 was created"
+# The speleothem stage counts too: the Figure 10 cave decorated at 1 cm voxels (about 100 M
+# level-set voxels) is refused before any work, though the undecorated run fits.
+sed -e 's/^voxel_size = 0.05$/voxel_size = 0.01/' "$SRC/scenarios/fig10_decorated.toml" > fine_decor.toml
+expect_exit 0 "validate estimates the speleothem stage" -- "$CAVESIM" validate fine_decor.toml
+grep -q "(speleothems), time roughly .* (speleothems: about 100.8 M level-set voxels" stdout.txt &&
+  pass "speleothem estimate printed" || fail "no speleothem estimate: $(cat stdout.txt)"
+expect_exit 2 "decorated run larger than the memory limit" -- bash -c "ulimit -v 4000000; exec \"$CAVESIM\" run fine_decor.toml --out o14 -q"
+stderr_has "(speleothems,"
+[ ! -e o14 ] && pass "no output for the refused decorated run" || fail "o14 was created"
 # Geology and recharge that cannot be: a fracture family that cannot fit, recharge outside the land
 # surface. Each names file, line, key and value, and writes nothing.
 cat good.toml > frac_long.toml

@@ -2,6 +2,8 @@
 // most, and refuses a run above the smallest known limit with both numbers.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/error.h"
 #include "sim/preflight.h"
 #include "sim/scenario_io.h"
@@ -48,5 +50,50 @@ TEST(Preflight, RefusesAboveTheSmallestLimitWithTheNumbers) {
         EXPECT_NE(m.find("this process may use"), std::string::npos) << m;
         EXPECT_NE(m.find("cgroup limit"), std::string::npos) << m;
         EXPECT_NE(m.find("100000000 voxels"), std::string::npos) << m;
+    }
+}
+
+TEST(Preflight, SpeleothemStageCountsItsLevelSetAndSteps) {
+    Scenario s = defaultScenario();  // the Figure 10 block: 60 × 60 × 20 voxels of 1 m
+    const RunEstimate plain = estimateRun(s, 2);
+    EXPECT_EQ(plain.speleoBytes, 0.0);
+    EXPECT_EQ(plain.speleoVoxels, 0.0);
+    // The cave surface assumed: 0.14 of the bounding box's 2·(60·60 + 60·20 + 60·20) = 12 000 m².
+    EXPECT_DOUBLE_EQ(expectedCaveSurface(s), 0.14 * 12000);
+
+    s.speleothems.enabled = true;
+    s.speleothems.voxelSize = 0.05;
+    s.speleothems.years = 20000;
+    const RunEstimate fine = estimateRun(s, 2);
+    EXPECT_DOUBLE_EQ(fine.speleoVoxels, 6.0 * 1680 / (0.05 * 0.05));
+    // Stable steps: half a voxel at the fastest drip site's α·l_Q = 1e-4·e^0.3 m/yr.
+    EXPECT_EQ(fine.speleoSteps, std::ceil(20000 / (0.5 * 0.05 / (1e-4 * std::exp(0.3)))));
+    EXPECT_STREQ(fine.peakPhase, "speleothems");
+    EXPECT_GT(fine.peakBytes, plain.peakBytes + 100 * fine.speleoVoxels);
+    EXPECT_GT(fine.seconds, plain.seconds + fine.speleoSeconds * 0.999);
+    EXPECT_NE(describeEstimate(fine).find("speleothems: about 4.0 M level-set voxels"), std::string::npos)
+        << describeEstimate(fine);
+
+    // Coarser voxels: a quarter of the voxels, half the steps.
+    s.speleothems.voxelSize = 0.1;
+    const RunEstimate coarse = estimateRun(s, 2);
+    EXPECT_DOUBLE_EQ(coarse.speleoVoxels, fine.speleoVoxels / 4);
+    EXPECT_EQ(coarse.speleoSteps, std::ceil(20000 / (0.5 * 0.1 / (1e-4 * std::exp(0.3)))));
+    EXPECT_LT(coarse.speleoSeconds, fine.speleoSeconds / 4);
+    // time_step caps the step; a water-filled cave grows nothing (no steps, the level set still made).
+    s.speleothems.timeStep = 100;
+    EXPECT_EQ(estimateRun(s, 2).speleoSteps, 200.0);
+    s.speleothems.drained = false;
+    EXPECT_EQ(estimateRun(s, 2).speleoSteps, 0.0);
+
+    // `run` refuses a decorated run that the undecorated one would fit in, naming the phase.
+    MemoryLimits limits;
+    limits.available = 0.5 * (plain.peakBytes + fine.peakBytes);
+    EXPECT_NO_THROW(checkMemory(plain, limits));
+    try {
+        checkMemory(fine, limits);
+        FAIL();
+    } catch (const InputError& x) {
+        EXPECT_NE(std::string(x.what()).find("(speleothems,"), std::string::npos) << x.what();
     }
 }
