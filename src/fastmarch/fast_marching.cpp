@@ -421,20 +421,25 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
     LabelledArrival out{Grid3<double>(dims, kInf), Grid3<std::int32_t>(dims, -1)};
     // One queue for all fronts, keeping each front's own times (the per-front minimum, as if each
     // marched alone over the block). A (voxel, label) entry holds label l's time at the voxel; a
-    // voxel's first entry is in `out` (time, and the label with the flags below), any further ones
-    // in a list (`pool`, head per voxel in `heads`). The dense entry is always the voxel's best
-    // (time, label), so it settles first and is the winner. Front l's update at a voxel is the
-    // Godunov update from l's own times at the face neighbours, whatever label holds them, at the
-    // slowness of l (the float product of a front marched alone), so wherever l propagates its
-    // times are those of its own march, bit for bit. Front l stops propagating (settles without
-    // offering) at a voxel y where it is dominated: some label m with speed >= l's has settled y
-    // with T_m(y) + margin <= T_l(y); margin is kDominanceSteps times l's largest one-voxel cost at
-    // y and its face neighbours. Beyond y, m reaches everything at least as early as l does, so l
-    // cannot win there; and a voxel z that l wins never takes l's time from a dominated neighbour:
-    // T_l(y) < T_l(z) <= T_m(z) <= T_m(y) + (m's cost at z) would need the margin below one step.
-    // The extra steps cover the first-order scheme's direction error, which lets a front gain on
-    // another near a boundary by a fraction of a step per voxel. Popping follows (time, voxel,
-    // label) and the march is serial, so the result does not depend on the thread count.
+    // voxel's best entry is in `out` (time, and the label with the flags below), any others in a
+    // list (`pool`, its head per voxel in the hash map `headKey`/`headVal`). The dense entry is
+    // always the voxel's best (time, label), so it settles first and is the winner. Front l's
+    // update at a voxel is the Godunov update from l's own times at the face neighbours
+    // (settled or not, as in a lone march), whatever label holds them, at the slowness of l (the
+    // float product of a front marched alone), so wherever l propagates its times are those of
+    // its own march, bit for bit. Front l stops at a voxel y where it is dominated: some label m
+    // with speed >= l's has settled y with T_m(y) + margin <= T_l(y), margin = kDominanceSteps
+    // times l's largest finite one-voxel cost at y and its face neighbours; from there l creates
+    // no entries, only lowers those of l that its neighbours already have. Beyond y, m reaches
+    // everything at least as early as l does, so l cannot win there; and a voxel z that l wins
+    // does not take l's time from a dominated neighbour y: T_l(y) < T_l(z) <= T_m(z) <= T_m(y) +
+    // (m's cost at z) would need the margin under one step. Three steps, not one: a first-order
+    // update depends (a little) on every voxel between it and the source along monotone lattice
+    // paths, not only near its ray, so near a boundary a front's time can take in its time from
+    // where it stopped; with three steps the shipped scenarios give the lone marches' outputs
+    // byte for byte and random tests the same labels (docs/model.md "Zones"). Popping follows
+    // (time, voxel, label) and the march is serial, so the result does not depend on the thread
+    // count.
     constexpr double kDominanceSteps = 3.0;
     constexpr std::int32_t kSettled = std::int32_t(1) << 30;  // the entry has been popped
     constexpr std::int32_t kSeed = std::int32_t(1) << 29;     // a seed: its time stays
