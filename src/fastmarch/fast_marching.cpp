@@ -10,8 +10,12 @@
 #include <limits>
 #include <queue>
 #include <string>
+#include <type_traits>
 #include <utility>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -176,6 +180,172 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
     return changes;
 }
 
+/// Linear offsets of the 26 neighbours in `allNeighbours()` order.
+std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
+    std::array<std::ptrdiff_t, 26> offset{};
+    for (std::size_t n = 0; n < 26; ++n) {
+        const NeighbourOffset& o = allNeighbours()[n];
+        offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
+    }
+    return offset;
+}
+
+/// Calls fn(r, n) for each neighbour r of voxel q inside the grid, n its `allNeighbours()` slot.
+template <typename Fn>
+inline void forEachNeighbour(const Dims& d, const std::array<std::ptrdiff_t, 26>& offset, std::size_t q, Fn&& fn) {
+    const Index3 p = d.coord(q);
+    if (p.i > 0 && p.j > 0 && p.k > 0 && p.i + 1 < d.nx && p.j + 1 < d.ny && p.k + 1 < d.nz) {
+        for (std::size_t n = 0; n < 26; ++n) fn(std::size_t(std::ptrdiff_t(q) + offset[n]), n);
+        return;
+    }
+    for (std::size_t n = 0; n < 26; ++n) {
+        const NeighbourOffset& o = allNeighbours()[n];
+        if (d.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) fn(std::size_t(std::ptrdiff_t(q) + offset[n]), n);
+    }
+}
+
+/// Held voxels below this count take their heavy steps on the calling thread.
+constexpr std::size_t kParallelHeld = 4096;
+
+/// The avalanche sweep (kAvalanche26) on the bucket queue with its **heavy steps batched**, the
+/// same values and the same count of changed voxels as `relax`, bit for bit, on any number of
+/// threads. A step into voxel r costs slowness(r) · |step|; a step is *heavy* when that is at
+/// least `heavy` and *light* otherwise. A popped voxel takes its light steps at once (in bucket
+/// order, as `relax` does) and holds its heavy steps back: they lower values to at least
+/// (its value + heavy), so they can wait until the sweep reaches that value. Then all held voxels
+/// take their heavy steps together, in parallel: each lowering is an atomic minimum, and a
+/// voxel's final value is the minimum over the same candidate values whatever the order. With
+/// `heavy` the rock's rate, a batch holds every voxel of the front within one rock step — the whole
+/// shell the front crosses — while the few light steps along channels stay in bucket order.
+/// `lightNear[q]` is 1 where q may have a light step (0 only if it certainly has none).
+std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
+                         double heavy, const std::vector<std::uint8_t>& lightNear, Grid3<double>& value,
+                         BucketQueue& queue, std::vector<std::uint8_t>* touched, std::vector<std::size_t>* touchedList,
+                         double limit) {
+    std::size_t changes = 0;
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
+    const auto lower = [&](std::size_t r, double u) {
+        if (u < value[r]) {
+            value[r] = u;
+            queue.push({u, r});
+            if (touched && !(*touched)[r]) {
+                (*touched)[r] = 1;
+                if (touchedList) touchedList->push_back(r);
+                ++changes;
+            }
+        }
+    };
+    std::vector<HeapEntry> held;  // popped (value, voxel) whose heavy steps wait
+    double heldMin = kInf;
+    const std::size_t last = queue.q.bucket.size() - 1;
+
+    // One held voxel's heavy steps on one thread.
+    const auto heavySerial = [&](const HeapEntry& e) {
+        const double v = e.first;
+        forEachNeighbour(d, offset, e.second, [&](std::size_t r, std::size_t n) {
+            if (seed[r] || value[r] <= v) return;
+            const double c = double(slowness[r]) * allNeighbours()[n].length;
+            if (c >= heavy) lower(r, std::min(cap, v + c));
+        });
+    };
+    struct Local {
+        std::vector<HeapEntry> lowered;
+        std::vector<std::size_t> firstTouched;
+    };
+    tbb::enumerable_thread_specific<Local> locals;
+    const std::size_t workers =
+        std::min<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()),
+                              tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    const auto flush = [&] {
+        if (held.size() < kParallelHeld || workers < 2) {
+            for (const HeapEntry& e : held)
+                if (e.first == value[e.second]) heavySerial(e);
+        } else {
+            double* val = value.data.data();
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, held.size(), 512),
+                              [&](const tbb::blocked_range<std::size_t>& range) {
+                                  Local& local = locals.local();
+                                  for (std::size_t h = range.begin(); h != range.end(); ++h) {
+                                      const double v = held[h].first;
+                                      // A held voxel lowered again since it was popped is held again.
+                                      double now;
+                                      __atomic_load(val + held[h].second, &now, __ATOMIC_RELAXED);
+                                      if (v != now) continue;
+                                      forEachNeighbour(d, offset, held[h].second, [&](std::size_t r, std::size_t n) {
+                                          if (seed[r]) return;
+                                          double cur;
+                                          __atomic_load(val + r, &cur, __ATOMIC_RELAXED);
+                                          if (cur <= v) return;
+                                          const double c = double(slowness[r]) * allNeighbours()[n].length;
+                                          if (c < heavy) return;
+                                          double u = std::min(cap, v + c);
+                                          while (u < cur) {
+                                              if (__atomic_compare_exchange(val + r, &cur, &u, false, __ATOMIC_RELAXED,
+                                                                            __ATOMIC_RELAXED)) {
+                                                  local.lowered.push_back({u, r});
+                                                  if (touched && !__atomic_exchange_n(&(*touched)[r], std::uint8_t(1),
+                                                                                      __ATOMIC_RELAXED))
+                                                      local.firstTouched.push_back(r);
+                                                  break;
+                                              }
+                                          }
+                                      });
+                                  }
+                              });
+            // Into the queue: only the entries still current (the others are stale already).
+            for (Local& local : locals) {
+                for (const HeapEntry& e : local.lowered)
+                    if (e.first == value[e.second]) queue.push(e);
+                changes += local.firstTouched.size();
+                if (touchedList)
+                    touchedList->insert(touchedList->end(), local.firstTouched.begin(), local.firstTouched.end());
+                local.lowered.clear();
+                local.firstTouched.clear();
+            }
+        }
+        held.clear();
+        heldMin = kInf;
+    };
+
+    for (;;) {
+        if (queue.empty() || queue.bound() > limit) {
+            if (held.empty()) break;
+            flush();  // may refill buckets at or below the limit
+            continue;
+        }
+        // A held step lowers to at least fl(heldMin + heavy) (rounding is monotone), which lies in
+        // a bucket above the one about to be popped unless `index` says otherwise: then the held
+        // steps go first. The last bucket holds all values beyond it, in any order.
+        if (!held.empty() && (queue.index(heldMin + heavy) <= queue.q.lowest || queue.q.lowest == last)) {
+            flush();
+            continue;
+        }
+        const HeapEntry e = queue.top();
+        queue.pop();
+        const double v = e.first;
+        const std::size_t q = e.second;
+        if (v != value[q]) continue;  // stale entry
+        if (lightNear[q])
+            forEachNeighbour(d, offset, q, [&](std::size_t r, std::size_t n) {
+                if (seed[r] || value[r] <= v) return;
+                const double c = double(slowness[r]) * allNeighbours()[n].length;
+                if (c < heavy) lower(r, std::min(cap, v + c));
+            });
+        held.push_back(e);
+        heldMin = std::min(heldMin, v);
+    }
+    return changes;
+}
+
+/// Sets lightNear[q] for every neighbour q of voxel c that has a light step into c.
+void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, std::size_t c,
+                   std::vector<std::uint8_t>& lightNear) {
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
+    forEachNeighbour(d, offset, c, [&](std::size_t q, std::size_t n) {
+        if (double(slowness[c]) * allNeighbours()[n].length < heavy) lightNear[q] = 1;
+    });
+}
+
 }  // namespace
 
 double upwindUpdate(double ax, double ay, double az, double f) {
@@ -217,7 +387,10 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     const auto run = [&](auto& queue) {
         for (std::size_t n = 0; n < seed_.size(); ++n)
             if (seed_[n]) queue.push({value_[n], n});
-        relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
+        if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>)
+            relaxBatched(dims_, slowness, seed_, cap_, heavy_, lightNear_, value_, queue, nullptr, nullptr, kInf);
+        else
+            relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
     };
     useBuckets_ = false;
     buckets_ = Buckets{};
@@ -232,6 +405,12 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
             buckets_.width = double(smallest);
             buckets_.bucket.resize(std::size_t(count) + 2);
             buckets_.lowest = buckets_.bucket.size() - 1;
+            // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
+            heavy_ = 0;
+            for (float x : slowness.data) heavy_ = std::max(heavy_, double(x));
+            lightNear_.assign(dims.count(), 0);
+            for (std::size_t c = 0; c < dims.count(); ++c)
+                if (double(slowness[c]) * std::sqrt(3.0) < heavy_) markLightNear(dims, slowness, heavy_, c, lightNear_);
             BucketQueue queue{buckets_};
             run(queue);
             return;
@@ -264,7 +443,14 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 }
             }
         }
-        changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
+        if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>) {
+            for (std::size_t c : changed)
+                if (c < value_.size()) markLightNear(dims_, slowness, heavy_, c, lightNear_);
+            changes += relaxBatched(dims_, slowness, seed_, cap_, heavy_, lightNear_, value_, queue, &touched,
+                                    &touchedList, limit);
+        } else {
+            changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
+        }
         for (std::size_t q : touchedList) touched[q] = 0;
     };
     // Entries above the limit wait for a later call. Stale ones (their voxel fell since) and

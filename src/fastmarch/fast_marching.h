@@ -116,6 +116,8 @@ private:
     std::size_t pendingCompacted_ = 0;                     ///< size of pending_ after its last clean-up
     Buckets buckets_;                                      ///< kAvalanche26: the queue; pending entries between calls
     bool useBuckets_ = false;                              ///< the queue is `buckets_` (else a heap)
+    double heavy_ = 0.0;                   ///< bucket queue: steps costing this or more wait and run batched
+    std::vector<std::uint8_t> lightNear_;  ///< bucket queue: 1 where a voxel may have a cheaper step
 };
 
 /// The first-order Godunov upwind update of one voxel from the values of its face neighbours
