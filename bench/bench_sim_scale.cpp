@@ -2,15 +2,14 @@
 // same scenario as a file), per active voxel-iteration, peak memory per voxel, thread scaling; the
 // transport sweep against a copy measured in the same run; the padding test.
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include "bench_scale_util.h"
 #include "core/memory.h"
-#include "sim/scenario_io.h"
 #include "sim/stage1.h"
 #include "sim/stage2.h"
 #include "sim/stage2_steps.h"
@@ -18,45 +17,7 @@
 namespace {
 
 using namespace cavesim;
-
-/// Figure 10 scaled by k; with `pad`, the same features in the corner of a block pad × wider and
-/// deeper and (pad == 2: 2×2×2 = 8× the volume) pad × higher.
-Scenario scaledFig10(int k, int pad = 1) {
-    Scenario s = defaultScenario();
-    s.name = "fig10_k" + std::to_string(k);
-    s.size = {60 * k * pad, 60 * k * pad, 20 * k * pad};
-    s.noise.scale *= k;
-    for (auto& o : s.spheres) {
-        for (auto& c : o.center) c *= k;
-        o.radius *= k;
-    }
-    for (auto& src : s.sources)
-        for (int a = 0; a < 3; ++a) {
-            src.box.lo[std::size_t(a)] *= k;
-            src.box.hi[std::size_t(a)] *= k;
-        }
-    for (auto& sink : s.sinks)
-        for (int a = 0; a < 3; ++a) {
-            sink.box.lo[std::size_t(a)] *= k;
-            sink.box.hi[std::size_t(a)] *= k;
-        }
-    s.stage2.iterations *= k;
-    validateScenario(s);
-    return s;
-}
-
-double statusKb(const char* key) {
-    std::ifstream f("/proc/self/status");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind(key, 0) == 0) return std::stod(line.substr(std::strlen(key)));
-    return 0;
-}
-
-/// Resets VmHWM to the current resident size (Linux: clear_refs 5).
-void resetPeak() {
-    std::ofstream("/proc/self/clear_refs") << "5";
-}
+using namespace cavesim::bench;
 
 void stage2Run(benchmark::State& state, int k, int pad, int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));

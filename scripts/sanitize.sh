@@ -13,8 +13,8 @@ FUZZ_SECONDS=${CAVESIM_FUZZ_SECONDS:-60}
 SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 # Unit tests of every module and of the public API (libcavesim.so; the Python module is not built
 # here: it would need the sanitizer runtime preloaded into Python); the fuzz targets; the command.
-MODULES=(core fastmarch flownet sim render mesh morpho formats app lib)
-TARGETS=("${MODULES[@]/#/test_}" cavesim fuzz_scenario fuzz_state_file)
+MODULES=(core fastmarch flownet sim render mesh morpho formats site speleo app lib)
+TARGETS=("${MODULES[@]/#/test_}" cavesim fuzz_scenario fuzz_state_file fuzz_checkpoint)
 start=$(date +%s)
 cmake -S . -B "$BUILD" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_CXX_FLAGS="$SAN" \
@@ -39,9 +39,10 @@ tested=$(date +%s)
 echo "sanitize: unit tests $((tested - built)) s" >&2
 
 # End-to-end under the sanitizers: runs of the small and the default scenario, a report rebuilt from
-# the run's files, the fault tests (size limit, signals, concurrency) and the mutated state files.
+# the run's files, the fault tests (size limit, signals, concurrency), the mutated state files, an
+# ensemble (members in parallel, resumed) and runs killed and resumed from their checkpoints.
 E2E=$BUILD/e2e && rm -rf "$E2E" && mkdir -p "$E2E"
-for t in run_small faults state_mutations; do
+for t in run_small faults state_mutations ensemble checkpoint; do
   if ! bash tests/cli/$t.sh "$PWD/$BUILD/cavesim" "$PWD" "$E2E/$t" >"$E2E/$t.log" 2>&1; then
     echo "sanitize: end-to-end $t FAILED (log: $E2E/$t.log)" >&2
     grep -v '^ok' "$E2E/$t.log" | tail -40 >&2
@@ -58,7 +59,7 @@ ran=$(date +%s)
 echo "sanitize: end-to-end $((ran - tested)) s" >&2
 
 if [ "$FUZZ_SECONDS" -gt 0 ]; then
-  for t in scenario state_file; do
+  for t in scenario state_file checkpoint; do
     corpus=$BUILD/fuzz-corpus-$t && rm -rf "$corpus" && mkdir -p "$corpus"
     if [ "$t" = scenario ]; then cp scenarios/*.toml "$corpus/"; fi
     if ! "$BUILD/fuzz/fuzz_$t" -max_total_time="$FUZZ_SECONDS" -rss_limit_mb=2048 -print_final_stats=1 \

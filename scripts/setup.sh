@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(cmake g++ ninja-build ccache pkg-config python3
   libopenvdb-dev libboost-iostreams-dev libopenmesh-dev libboost-graph-dev
   libtbb-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
-  libpng-dev zlib1g-dev libtinygltf-dev libcairo2-dev fonts-dejavu-core
+  libpng-dev zlib1g-dev libtinygltf-dev libcairo2-dev fonts-dejavu-core libeigen3-dev
   libgdal-dev python3-gdal  # site inputs (GeoTIFF, CRSs); python3-gdal runs scenarios/site/make_site.py
   python3-dev pybind11-dev python3-numpy)  # the Python module (python/), built when these are found
 

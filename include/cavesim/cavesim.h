@@ -249,7 +249,8 @@ struct Report {
     // The cave (with `RunOptions::analysis`): network counts (docs/network-definitions.md) …
     int sourcesTotal = 0, sourcesConnected = 0, confluences = 0, tributaryCaptures = 0, phreaticLoops = 0;
     long skeletonNodes = 0, skeletonEdges = 0;
-    // … and morphometric indices (paper Tables 2–4): optimised (convex hull) and rectangular field.
+    // … and morphometric indices (paper Tables 2–4): optimised field (Klimchouk: the plan with a
+    // margin of half the mean passage spacing, within the convex hull) and rectangular field.
     double lengthM = 0, areaM2 = 0, volumeM3 = 0;
     double networkDensityOpt = 0, networkDensityRect = 0;      ///< m/m²
     double arealCoveragePctOpt = 0, arealCoveragePctRect = 0;  ///< %

@@ -23,6 +23,16 @@ struct RunRequest {
     std::optional<MeshStyle> meshStyle;       ///< overrides the scenario's mesh style
     std::optional<std::string> formats;       ///< `--formats` list (formats::parseFormatSet), overrides
     std::optional<MeshNormals> meshNormals;   ///< overrides the scenario's `[output] mesh_normals`
+    /// `--checkpoint-every N`: a checkpoint after every N-th stage-2 iteration (app/checkpoint.h);
+    /// 0: none. Checkpoints do not change any output file.
+    int checkpointEvery = 0;
+};
+
+/// `cavesim resume DIR`.
+struct ResumeRequest {
+    std::string dir;     ///< the output folder of the stopped run (`--out`)
+    int threads = 0;     ///< 0: all cores
+    bool force = false;  ///< replace a non-empty output directory (also when the run had --force)
 };
 
 struct RunOutcome {
@@ -43,6 +53,13 @@ std::uint64_t parseSeed(const std::string& text);
 /// `cavesim run`: the whole run into an output directory that appears complete or not at all.
 /// `callbacks.threads` is ignored (the request's thread count is used and recorded).
 RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbacks);
+
+/// `cavesim resume DIR`: finishes a stopped `run --checkpoint-every` from its checkpoint
+/// (app/checkpoint.h) with the same files, byte for byte, as a run that never stopped (timings and
+/// the thread count in the report aside), and removes the checkpoint once the folder is in place.
+/// @throw InputError when there is no checkpoint, it is damaged or cut, or it no longer matches
+///        its scenario (nothing is written then)
+RunOutcome resumeRun(const ResumeRequest& request, const PipelineOptions& callbacks);
 
 /// `cavesim validate`: the one-line summary of a valid scenario file.
 /// @throw InputError when the file is not a valid scenario

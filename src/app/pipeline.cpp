@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "app/cave_maps.h"
+#include "app/checkpoint.h"
 #include "app/report.h"
+#include "app/section_picture.h"
 #include "app/speleo_report.h"
 #include "app/state.h"
 #include "core/timer.h"
@@ -58,15 +62,38 @@ void runStages(Domain& dom, const Scenario& s, Rng& rng, RunRecord& rec, const P
         const Stopwatch t2;
         prepareStage2(dom, s.stage2);
         if (hooks.beforeStage2) hooks.beforeStage2(dom, rec);
-        rec.stage2 = runStage2(dom, s.stage2, progress, hooks.snapshot);
+        rec.stage2 = runStage2(dom, s.stage2, progress, hooks.snapshot, hooks.checkpoints);
         rec.timing.stage2 = t2.seconds();
     }
 }
 
-morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& dom, const Scenario& s, const RunRecord& rec) {
-    const std::vector<std::optional<int>> connected =
-        rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
-    return morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+std::vector<double> familyStrikes(const Scenario& s) {
+    std::vector<double> strikes;
+    for (const FractureFamily& f : s.fractureFamilies) {
+        double strike = std::fmod(f.dipDirection - 90.0, 180.0);
+        if (strike < 0) strike += 180.0;
+        strikes.push_back(strike);
+    }
+    return strikes;
+}
+
+std::vector<std::optional<int>> connectedIterations(const RunRecord& rec) {
+    return rec.stage2 ? rec.stage2->sourceConnectedIteration : std::vector<std::optional<int>>{};
+}
+
+morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& dom, const Scenario& s,
+                                const std::vector<std::optional<int>>& connected) {
+    morpho::CaveAnalysis a =
+        morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected, {}, familyStrikes(s));
+    addProtochannelProximity(a, dom, s);
+    return a;
+}
+
+void addProtochannelProximity(morpho::CaveAnalysis& analysis, const Domain& dom, const Scenario& s) {
+    if (!s.stage2.enabled) return;
+    Grid3<std::uint8_t> proto(dom.dims, 0);
+    for (std::size_t v = 0; v < proto.data.size(); ++v) proto[v] = (dom.flags[v] & kProtochannel) ? 1 : 0;
+    analysis.nearProtochannels = morpho::nearMarked(analysis.skeleton, proto, kNearProtochannelVoxels);
 }
 
 PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const PipelineOptions& options) {
@@ -94,7 +121,24 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
                              std::to_string(r.stage1->protochannelVoxels) + " protochannel voxels in " +
                              std::to_string(r.timing.stage1).substr(0, 5) + " s");
     };
-    hooks.beforeStage2 = [](const Domain& d, RunRecord& r) { r.connectedAtStart = sourcesConnectedAtStart(d); };
+    std::vector<std::string> stage2Files;  // files stage 2 wrote so far: a checkpoint carries them
+    std::uint64_t domainHash = 0;          // the domain at the start of stage 2 (checkpoints)
+    const bool checkpointing = options.checkpoint.every > 0;
+    hooks.beforeStage2 = [&](const Domain& d, RunRecord& r) {
+        r.connectedAtStart = sourcesConnectedAtStart(d);
+        if (!checkpointing && !options.resume) return;
+        domainHash = domainFingerprint(d);
+        if (!options.resume) return;
+        if (domainHash != options.resume->domainHash)
+            throw InputError(options.resumeName +
+                             ": the domain at the start of stage 2 is not the one the checkpoint was made from (a "
+                             "file the scenario reads changed, or another version of cavesim); rerun `cavesim run`");
+        for (const auto& [path, bytes] : options.resume->files) {
+            writeFileAtomic(dir.file(path).string(), bytes);
+            stage2Files.push_back(path);
+        }
+        frames = options.resume->frames;
+    };
     if (s.output.images && nFrames > 0) {
         hooks.snapshot = [&](int it, const Domain& d) {
             char name[64];
@@ -102,7 +146,31 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
             render::Image frame =
                 render::stateFrame(d, caveMask(d, s.output.cave), "iteration " + std::to_string(it), width);
             render::writePng(dir.file(name).string(), frame);
+            stage2Files.push_back(name);
             frames.push_back(render::downsample(frame, reduce));
+        };
+    }
+    if (options.resume) {
+        hooks.checkpoints.resume = &options.resume->stage2;
+        hooks.checkpoints.resumeName = options.resumeName;
+    }
+    if (checkpointing) {
+        hooks.checkpoints.every = options.checkpoint.every;
+        hooks.checkpoints.save = [&](int it, const std::string& state) {
+            const Stopwatch tc;
+            Checkpoint c = options.checkpoint;
+            c.domainHash = domainHash;
+            c.iteration = it;
+            for (const std::string& f : stage2Files) c.files.emplace_back(f, readFileBytes(dir.file(f)));
+            c.frames = frames;
+            c.stage2 = state;
+            const std::string bytes = encodeCheckpoint(c);
+            const double encoded = tc.seconds();
+            writeFileAtomic((options.checkpointDir / kCheckpointFile).string(), bytes);
+            char line[160];
+            std::snprintf(line, sizeof line, "checkpoint after iteration %d: %.1f MB in %.3f s (%.3f s to encode)", it,
+                          double(bytes.size()) / 1e6, tc.seconds(), encoded);
+            say(options.log, line);
         };
     }
     runStages(dom, s, rng, rec, progress, hooks);
@@ -140,15 +208,28 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         mesh::writeCavePictures(cave, imagesDir, width);
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
-    if (s.speleothems.enabled)
+    if (s.speleothems.enabled) {
         rec.speleothems = speleothemsJson(speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images));
+        // The decorated meshes are recorded by their bytes beside the state files (an empty cave
+        // writes none).
+        for (const char* f : {"cave_decorated.obj", "cave_decorated.ply", "cave_decorated.glb"}) {
+            const std::string path = dir.file(f).string();
+            if (std::filesystem::is_regular_file(path)) rec.files[f] = fileFingerprint(path);
+        }
+    }
     rec.timing.mesh = tm.seconds();
 
     reportProgress(progress, "report", 0, 1);
     const Stopwatch tr;
-    const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, rec);
+    const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, connectedIterations(rec));
     morpho::writeSkeletonFiles(analysis.skeleton, outDir, dom.voxelSize, dom.dims);
-    if (s.output.images) writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
+    if (s.output.images) {
+        writeCaveMaps(cave, analysis.skeleton, s.name, imagesDir, width);
+        writeSectionsPicture(analysis.sections, s.name, imagesDir);
+    }
+    if (!s.fractureFamilies.empty()) rec.fractures = measuredFractureNetwork(s);
+    if (s.output.images && rec.fractures)
+        render::writeFracturesPicture(dom, cave.mask, *rec.fractures, dir.file("images/fractures.png").string(), width);
     rec.analysis = analysisJson(analysis);
     rec.timing.report = tr.seconds();
 
@@ -176,7 +257,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     PipelineResult out;
     if (options.alsoMeasure) {
         const Cave other = makeCave(dom, *options.alsoMeasure);
-        out.alsoMeasured = analysisJson(analyseRun(other, dom, s, rec));
+        out.alsoMeasured = analysisJson(analyseRun(other, dom, s, connectedIterations(rec)));
     }
     out.totalSeconds = t0.seconds();
     if (rec.stage2) out.breakthroughIteration = rec.stage2->breakthroughIteration;

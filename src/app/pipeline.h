@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/checkpoint.h"
 #include "app/output_dir.h"
 #include "app/report.h"
 #include "core/progress.h"
@@ -32,6 +33,13 @@ struct PipelineOptions {
     std::optional<CaveExtent> alsoMeasure;
     ProgressFn progress;
     LogFn log;
+    /// Checkpoints (app/checkpoint.h) after every `checkpoint.every`-th stage-2 iteration (0: none),
+    /// into `checkpointDir`; `checkpoint` holds how the run was asked for, the rest is filled in.
+    Checkpoint checkpoint;
+    std::filesystem::path checkpointDir;
+    /// Not null: continue stage 2 from this checkpoint (its domain fingerprint is checked).
+    const Checkpoint* resume = nullptr;
+    std::string resumeName;  ///< names `resume`'s file in messages
 };
 
 struct PipelineResult {
@@ -54,6 +62,8 @@ struct StageHooks {
     std::function<void(const Domain& domain, RunRecord& record)> beforeStage2;
     /// Stage 2's snapshots (runStage2).
     SnapshotFn snapshot;
+    /// Stage 2's checkpoints, or the state it continues from (runStage2).
+    Stage2Checkpoints checkpoints;
 };
 
 /// The enabled stages of `scenario` on `domain` as a run runs them (built by buildDomain with
@@ -63,10 +73,25 @@ struct StageHooks {
 void runStages(Domain& domain, const Scenario& scenario, Rng& rng, RunRecord& record, const ProgressFn& progress,
                const StageHooks& hooks = {});
 
-/// The cave analysis of a run (morpho::analyseCave): the pressure field and the iterations at which
-/// the sources joined a sink when stage 2 ran.
+/// The strikes of the scenario's fracture families, degrees clockwise from north in [0, 180):
+/// dip direction − 90°, for the pattern's family-share criterion (empty without families).
+std::vector<double> familyStrikes(const Scenario& scenario);
+
+/// The cave analysis of a run (morpho::analyseCave with the scenario's fracture strikes and the
+/// protochannel proximity): the pressure field when stage 2 ran, and `connected`, the iterations at
+/// which the sources joined a sink (empty without stage 2).
 morpho::CaveAnalysis analyseRun(const Cave& cave, const Domain& domain, const Scenario& scenario,
-                                const RunRecord& record);
+                                const std::vector<std::optional<int>>& connected);
+
+/// The source connection iterations of a run's record (empty without stage 2).
+std::vector<std::optional<int>> connectedIterations(const RunRecord& record);
+
+/// Distance (voxels) within which centreline counts as near a stage-1 protochannel.
+inline constexpr double kNearProtochannelVoxels = 2.0;
+
+/// When stage 2 ran: the share of the centreline and of the block within kNearProtochannelVoxels
+/// of a protochannel voxel (flag kProtochannel), stored in `analysis.nearProtochannels`.
+void addProtochannelProximity(morpho::CaveAnalysis& analysis, const Domain& domain, const Scenario& scenario);
 
 /// Builds the domain, runs the enabled stages, meshes, draws and reports into `dir` (staging).
 /// @throw InputError for limits the scenario exceeds (naming the file, line and key);

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "app/commands.h"
+#include "app/pipeline.h"
 #include "app/report.h"
 #include "app/state.h"
 #include "core/error.h"
@@ -77,15 +78,13 @@ std::string rebuildReport(const std::string& dirArg) {
             connected.push_back(v.is_number_integer() ? std::optional<int>(v.get<int>()) : std::nullopt);
     }
     const Cave cave = makeCave(dom, s.output.cave);
-    const morpho::CaveAnalysis analysis =
-        morpho::analyseCave(cave, s.stage2.enabled ? &dom.pressure : nullptr, connected);
+    const morpho::CaveAnalysis analysis = analyseRun(cave, dom, s, connected);
     morpho::writeSkeletonFiles(analysis.skeleton, dir.string(), dom.voxelSize, dom.dims);
-    const nlohmann::json a = analysisJson(analysis);
     report["scenario"] = s.name;
     report["grid"] = {s.size[0], s.size[1], s.size[2]};
     report["voxel_size_m"] = s.voxelSize;
     report["seed"] = s.seed;
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"}) report[k] = a[k];
+    putAnalysis(report, analysisJson(analysis));
     if (!report["timing_s"].is_object()) report["timing_s"] = nlohmann::json::object();
     report["timing_s"]["report"] = t0.seconds();
     writeReportFiles(s, report, dir.string());

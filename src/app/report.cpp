@@ -9,14 +9,18 @@
 #include <sstream>
 
 #include "app/report_html.h"
+#include "app/report_pattern.h"
 #include "app/report_section.h"
 #include "app/state.h"
 #include "core/error.h"
 #include "core/fnv.h"
 #include "mesh/cave_mesh.h"
 #include "morpho/analysis.h"
+#include "morpho/graph_metrics.h"
 #include "morpho/reference_ranges.h"
+#include "sim/fractures.h"
 #include "sim/parameters.h"
+#include "sim/recharge.h"
 #include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
@@ -75,27 +79,56 @@ nlohmann::json stage2Json(const Stage2Result& r, double voxelVolume) {
                         {"sources_connected", h.sourcesConnected},
                         {"balance_error", num(h.balanceError)}});
     }
+    const auto box = [](const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+        return lo[0] > hi[0] ? nlohmann::json(nullptr) : nlohmann::json{{"lo", lo}, {"hi", hi}};
+    };
+    nlohmann::json phases = nlohmann::json::array();
+    for (const Stage2PhaseRecord& p : r.phases) {
+        phases.push_back(
+            {{"first_iteration", p.firstIteration},
+             {"iterations", p.iterations},
+             {"water_table", p.waterTable >= 0 ? nlohmann::json(num(p.waterTable)) : nlohmann::json(nullptr)},
+             {"water_table_from_site", p.fromSite},
+             {"sinks", p.sinks},
+             {"sources", p.sources},
+             {"breakthrough_iteration",
+              p.breakthroughIteration ? nlohmann::json(*p.breakthroughIteration) : nlohmann::json(nullptr)},
+             {"cave_voxels_added", p.channelVoxelsEnd - p.channelVoxelsStart},
+             {"cave_voxels", p.channelVoxelsEnd},
+             {"cave_voxels_below_table", p.caveBelow},
+             {"cave_voxels_above_table", p.caveAbove},
+             {"cave_volume_below_table_m3", num(double(p.caveBelow) * voxelVolume)},
+             {"cave_volume_above_table_m3", num(double(p.caveAbove) * voxelVolume)},
+             {"cave_box_below_table", box(p.belowLo, p.belowHi)},
+             {"cave_box_above_table", box(p.aboveLo, p.aboveHi)},
+             {"cave_above_table_voxels_per_slice", num(p.aboveSliceMean)},
+             {"water_injected", num(p.injected)},
+             {"water_drained", num(p.drained)},
+             {"eroded_m3", num(p.eroded * voxelVolume)}});
+    }
     nlohmann::json perSource = nlohmann::json::array();
     for (const auto& it : r.sourceConnectedIteration)
         perSource.push_back(it ? nlohmann::json(*it) : nlohmann::json(nullptr));
-    return {{"iterations", r.iterations},
-            {"breakthrough_iteration",
-             r.breakthroughIteration ? nlohmann::json(*r.breakthroughIteration) : nlohmann::json(nullptr)},
-            {"source_connected_iteration", perSource},
-            {"water_balance_rel_error", num(r.waterBalanceRelError)},
-            {"water_injected", num(r.totalInjected)},
-            {"source_water_injected",
-             [&] {
-                 nlohmann::json a = nlohmann::json::array();
-                 for (double x : r.sourceInjected) a.push_back(num(x));
-                 return a;
-             }()},
-            {"water_drained", num(r.totalDrained)},
-            {"pressure_cap", num(r.pressureCap)},
-            {"seconds_pressure", num(r.pressureSeconds)},
-            {"seconds_transport", num(r.transportSeconds)},
-            {"seconds_erosion", num(r.erosionSeconds)},
-            {"history", hist}};
+    nlohmann::json out = {{"iterations", r.iterations},
+                          {"breakthrough_iteration", r.breakthroughIteration ? nlohmann::json(*r.breakthroughIteration)
+                                                                             : nlohmann::json(nullptr)},
+                          {"source_connected_iteration", perSource},
+                          {"water_balance_rel_error", num(r.waterBalanceRelError)},
+                          {"water_injected", num(r.totalInjected)},
+                          {"source_water_injected",
+                           [&] {
+                               nlohmann::json a = nlohmann::json::array();
+                               for (double x : r.sourceInjected) a.push_back(num(x));
+                               return a;
+                           }()},
+                          {"water_drained", num(r.totalDrained)},
+                          {"pressure_cap", num(r.pressureCap)},
+                          {"seconds_pressure", num(r.pressureSeconds)},
+                          {"seconds_transport", num(r.transportSeconds)},
+                          {"seconds_erosion", num(r.erosionSeconds)},
+                          {"history", hist}};
+    if (!r.phases.empty()) out["phases"] = phases;
+    return out;
 }
 
 // ---- report.md ---------------------------------------------------------------------------------
@@ -186,8 +219,52 @@ nlohmann::json analysisJson(const morpho::CaveAnalysis& a) {
     j["graph_metrics"] = morpho::toJson(a.metrics);
     j["skeleton"] = {{"nodes", a.skeleton.nodes.size()}, {"edges", a.skeleton.edges.size()}};
     j["cave_category"] = morpho::caveCategory(a.morphometry);
+    if (a.nearProtochannels) j["near_protochannels"] = morpho::toJson(*a.nearProtochannels);
+    j["pattern"] = morpho::toJson(a.pattern);
+    j["cross_sections"] = a.sections.passages.empty() && a.pattern.pattern == "not classified"
+                              ? nlohmann::json(nullptr)
+                              : morpho::toJson(a.sections);
     j["seconds"] = num(a.seconds);
     return j;
+}
+
+FractureNetwork measuredFractureNetwork(const Scenario& s) {
+    const Dims dims{s.size[0], s.size[1], s.size[2]};
+    FractureNetwork net = generateFractureNetwork(s.fractureFamilies, dims, s.seed);
+    measureFractureNetwork(net, s.fractureFamilies, dims);
+    return net;
+}
+
+/// report.json `fracture_network`: the measured discs `net` of the scenario.
+static nlohmann::json fractureNetworkJson(const Scenario& s, const FractureNetwork& net) {
+    nlohmann::json fams = nlohmann::json::array();
+    double p32 = 0;
+    for (std::size_t f = 0; f < net.families.size(); ++f) {
+        const FractureFamilyStats& st = net.families[f];
+        const FractureFamily& g = s.fractureFamilies[f];
+        p32 += st.p32;
+        fams.push_back({{"line", g.line},
+                        {"count", st.count},
+                        {"given_dip_direction_deg", g.dipDirection},
+                        {"given_dip_deg", g.dip},
+                        {"given_kappa", g.kappa},
+                        {"mean_dip_direction_deg", num(st.meanDipDirection)},
+                        {"mean_dip_deg", num(st.meanDip)},
+                        {"kappa_estimate", num(st.kappaEstimate)},
+                        {"mean_length_m", num(st.meanLength * s.voxelSize)},
+                        {"p32_per_m", num(st.p32 / s.voxelSize)},
+                        {"p32_nominal_per_m", num(st.p32Nominal / s.voxelSize)},
+                        {"slab_voxels", st.voxels}});
+    }
+    return {{"discs", net.discs.size()}, {"p32_per_m", num(p32 / s.voxelSize)}, {"families", fams}};
+}
+
+void putAnalysis(nlohmann::json& report, const nlohmann::json& analysis) {
+    const bool given = analysis.is_object();
+    for (const char* k : kAnalysisKeys)
+        report[k] = given && analysis.contains(k) ? analysis[k] : nlohmann::json(nullptr);
+    if (given && analysis.contains("near_protochannels") && report.contains("stage2") && report["stage2"].is_object())
+        report["stage2"]["near_protochannels"] = analysis["near_protochannels"];
 }
 
 nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec) {
@@ -208,12 +285,27 @@ nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRe
     j["stage2"] =
         rec.stage2 ? stage2Json(*rec.stage2, s.voxelSize * s.voxelSize * s.voxelSize) : nlohmann::json(nullptr);
     if (rec.stage2 && rec.connectedAtStart) j["stage2"]["connected_at_start"] = *rec.connectedAtStart;
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
-        j[k] = rec.analysis.is_object() && rec.analysis.contains(k) ? rec.analysis[k] : nlohmann::json(nullptr);
+    putAnalysis(j, rec.analysis);
     j["mesh"] = rec.mesh;
     if (!rec.speleothems.is_null()) j["speleothems"] = rec.speleothems;
     j["files"] = rec.files;
     j["exports"] = rec.exports;
+    if (rec.fractures) j["fracture_network"] = fractureNetworkJson(s, *rec.fractures);
+    if (!s.recharge.empty()) {
+        std::vector<std::size_t> perEntry;
+        const std::vector<SourceSpec> inputs = rechargeSources(s, &perEntry);
+        nlohmann::json entries = nlohmann::json::array();
+        for (std::size_t i = 0; i < s.recharge.size(); ++i) {
+            const RechargeSpec& e = s.recharge[i];
+            const std::size_t n = perEntry[i];
+            entries.push_back({{"kind", e.kind == RechargeKind::kSinkholes ? "sinkholes"
+                                        : e.kind == RechargeKind::kDiffuse ? "diffuse"
+                                                                           : "stream"},
+                               {"line", e.line},
+                               {"sources", n}});
+        }
+        j["recharge"] = {{"sources", inputs.size()}, {"first_source", s.sources.size() + 1}, {"entries", entries}};
+    }
     j["checksums"] = {{"porosity", checksum(recordedPorosity(dom, s, StateMoment::kFinal))},
                       {"pressure", checksum(dom.pressure)},
                       {"flow", checksum(dom.flow)},
@@ -230,7 +322,28 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
        << s.size[1] * s.voxelSize << " × " << s.size[2] * s.voxelSize << " m), seed " << s.seed << ", "
        << fmt(r.value("threads", nlohmann::json(1))) << " thread(s); " << s.sources.size() << " source(s), "
        << s.sinks.size() << " sink(s), " << s.spheres.size() << " obstacle(s), " << s.planes.size() << " plane(s), "
-       << s.channels.size() << " given channel(s).\n\n";
+       << s.channels.size() << " given channel(s)"
+       << (s.recharge.empty() ? std::string()
+                              : "; " + std::to_string(at(at(r, "recharge"), "sources").get<long>()) +
+                                    " source(s) from " + std::to_string(s.recharge.size()) + " [[recharge]] entries")
+       << (s.inceptionHorizons.empty() ? std::string()
+                                       : ", " + std::to_string(s.inceptionHorizons.size()) + " inception horizon(s)")
+       << ".\n\n";
+    if (r.contains("fracture_network")) {
+        const auto& fn = r["fracture_network"];
+        md << "## Fracture network\n\nDiscs drawn from the seed (docs/geology.md, \"Fracture families\"); the "
+              "orientation and kappa are measured back from the discs; P32 is the disc area inside the block per "
+              "volume.\n\n| family | discs | given dip dir/dip | measured | kappa given/estimated | mean length (m) | "
+              "P32 (1/m) |\n|---|---|---|---|---|---|---|\n";
+        int n = 0;
+        for (const auto& f : at(fn, "families"))
+            md << "| " << ++n << " | " << fmt(at(f, "count")) << " | " << fmt(at(f, "given_dip_direction_deg")) << "/"
+               << fmt(at(f, "given_dip_deg")) << " | " << fmt(at(f, "mean_dip_direction_deg")) << "/"
+               << fmt(at(f, "mean_dip_deg")) << " | " << fmt(at(f, "given_kappa")) << "/"
+               << fmt(at(f, "kappa_estimate")) << " | " << fmt(at(f, "mean_length_m")) << " | "
+               << fmt(at(f, "p32_per_m")) << " |\n";
+        md << "\n";
+    }
 
     md << "## Parameters\n\nEvery key of the scenario's tables; a value that differs from the default is in bold, "
           "with the default beside it.\n\n"
@@ -264,17 +377,33 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
            << fmt(at(st2, "breakthrough_iteration"))
            << "; iteration at which each source joined a sink: " << at(st2, "source_connected_iteration").dump()
            << ".\n";
+        const auto& near = at(st2, "near_protochannels");
+        if (!near.is_null())
+            md << "- Near the stage-1 protochannels (within " << fmt(at(near, "radius_vox"))
+               << " voxels): " << fmt(at(near, "centreline_share")) << " of the centreline, "
+               << fmt(at(near, "block_share")) << " of the block.\n";
+        if (st2.contains("phases"))
+            for (const auto& p : st2["phases"]) {
+                md << "- Phase from iteration " << fmt(at(p, "first_iteration")) << ", " << fmt(at(p, "iterations"))
+                   << " iterations, water table " << fmt(at(p, "water_table")) << " (voxels), sinks "
+                   << at(p, "sinks").dump() << ", sources " << at(p, "sources").dump() << ": breakthrough at iteration "
+                   << fmt(at(p, "breakthrough_iteration")) << "; " << fmt(at(p, "cave_voxels_added"))
+                   << " cave voxels added; cave volume below the table " << fmt(at(p, "cave_volume_below_table_m3"))
+                   << " m³, above " << fmt(at(p, "cave_volume_above_table_m3")) << " m³.\n";
+            }
         md << "- Water balance: injected " << fmt(at(st2, "water_injected"), 6) << ", drained "
            << fmt(at(st2, "water_drained"), 6) << ", relative error " << fmt(at(st2, "water_balance_rel_error"), 2)
            << ".\n";
     }
     const auto& net = at(r, "network");
     if (!net.is_null()) {
-        md << "- Network (on the skeleton, oriented by pressure; definitions in docs/network-definitions.md): "
+        md << "- Network (flow paths down the stage-2 pressure, mapped onto the skeleton; definitions in "
+              "docs/network-definitions.md): "
            << fmt(at(net, "sources_connected")) << " of " << fmt(at(net, "sources_total"))
            << " sources connected to a sink, " << fmt(at(net, "confluences")) << " confluence(s), "
            << fmt(at(net, "tributary_captures")) << " tributary capture(s), " << fmt(at(net, "phreatic_loops"))
-           << " phreatic loop(s).\n";
+           << " phreatic loop(s); share of the paths that needed a fallback: " << fmt(at(net, "fallback_fraction"))
+           << ".\n";
     }
     const auto& mesh = at(r, "mesh");
     if (!mesh.is_null()) {
@@ -294,6 +423,7 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
                                                             {"map_plan.png", "plan map"},
                                                             {"map_section.png", "section map"},
                                                             {"map_extended_elevation.png", "extended elevation"},
+                                                            {"sections.png", "representative passage cross-sections"},
                                                             {"zones.png", "stage-1 zones and protochannels"},
                                                             {"pressure.png", "stage-2 pressure"},
                                                             {"flow.png", "stage-2 flow"},
@@ -307,9 +437,11 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
         md << "## Morphometric indices (paper §4.2)\n\n";
         md << "Cave length " << fmt(at(mo, "length_m")) << " m, plan area " << fmt(at(mo, "area_m2")) << " m², volume "
            << fmt(at(mo, "volume_m3")) << " m³; cave field " << fmt(at(mo, "a_field_opt_m2"))
+           << " m² (optimised: the plan with a margin of half the mean passage spacing, "
+           << fmt(at(mo, "field_margin_m")) << " m, within the convex hull), " << fmt(at(mo, "a_field_hull_m2"))
            << " m² (convex hull of the plan) and " << fmt(at(mo, "a_field_rect_m2"))
            << " m² (bounding rectangle). Category: **" << fmt(at(r, "cave_category")) << "**.\n\n";
-        md << "| index | ours (hull) | ours (rect.) | unconfined (Tab. 2) | confined (Tab. 2) | chamber (Tab. 3) | "
+        md << "| index | ours (opt.) | ours (rect.) | unconfined (Tab. 2) | confined (Tab. 2) | chamber (Tab. 3) | "
               "confined (Tab. 3) |"
            << (paper ? " paper's cave (Tab. 4) |" : "") << "\n|---|---|---|---|---|---|---|" << (paper ? "---|" : "")
            << "\n";
@@ -331,24 +463,29 @@ std::string buildReportMarkdown(const Scenario& s, const nlohmann::json& r, cons
             md << "\n";
             ++row;
         }
-        md << "\n✓/✗: inside/outside the confined range (hull column against Table 2, rectangle column against "
+        md << "\n✓/✗: inside/outside the confined range (optimised column against Table 2, rectangle column against "
               "Table 3).\n";
     }
 
     const auto& gm = at(r, "graph_metrics");
     if (!gm.is_null()) {
-        md << "\n## Network metrics (Collon et al. 2017)\n\n| metric | meaning | ours | real caves (34 networks) |\n"
-              "|---|---|---|---|\n";
+        const bool small = at(gm, "too_small").is_boolean() && at(gm, "too_small").get<bool>();
+        md << "\n## Network metrics (Collon et al. 2017)\n\n";
+        if (small)
+            md << "Too small for network statistics: " << fmt(at(gm, "branches")) << " branch(es), fewer than "
+               << morpho::kMinNetworkBranches << "; the metrics are not compared with the real caves.\n\n";
+        md << "| metric | meaning | ours | real caves (34 networks) |\n|---|---|---|---|\n";
         for (const char* key : kNetworkMetricKeys) {
             if (section && std::string(key) == "h_or") continue;  // plan azimuths: none in a section
             const morpho::ReferenceRange* m = morpho::findReferenceRange(key, "real caves", 0);
             md << "| `" << key << "` | " << (m ? m->meaning : "") << " | " << fmt(at(gm, key))
-               << inRange(at(gm, key), m) << " | " << rangeText(m) << " |\n";
+               << (small ? std::string(" (too small)") : inRange(at(gm, key), m)) << " | " << rangeText(m) << " |\n";
         }
     }
+    md << patternMarkdown(r) << crossSectionsMarkdown(r);
     md << "\nFiles: `scenario.toml` (effective scenario), `state.vdb`, `stage1.vdb`, `cave.obj`, `cave.ply`, "
           "`skeleton.json`, `skeleton_nodes.dat`, `skeleton_links.dat`, `report.json`, `report.html` (this report with "
-          "a 3D view), `images/map_*` (cave maps).\n";
+          "a 3D view), `images/map_*` (cave maps), `images/sections.png` (cross-sections).\n";
     return md.str();
 }
 

@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "sim/domain.h"
+#include "sim/fractures.h"
 #include "sim/scenario.h"
 #include "sim/stage1.h"
 #include "sim/stage2.h"
@@ -42,14 +43,30 @@ struct RunRecord {
     nlohmann::json files = nlohmann::json::object();  ///< fingerprints of written files, by name
     std::vector<std::string> exports;                 ///< the files of `[output] formats` written, in format order
     nlohmann::json json;                              ///< filled by writeReport: the report.json document
+    /// The scenario's fracture discs, measured (measuredFractureNetwork); empty without fracture families.
+    std::optional<FractureNetwork> fractures;
 };
 
 /// A report number: `v`, or null when it is not finite (JSON has no NaN or infinity).
 nlohmann::json jsonNumber(double v);
 
 nlohmann::json meshJson(const mesh::MeshStats& stats);
-/// network, morphometry, graph_metrics, skeleton summary and cave category of an analysis.
+/// network, morphometry, graph_metrics, skeleton summary, cave category, pattern and
+/// cross-sections of an analysis (the keys of `kAnalysisKeys`).
 nlohmann::json analysisJson(const morpho::CaveAnalysis& analysis);
+
+/// The report.json keys that come from the analysis of the cave.
+inline constexpr const char* kAnalysisKeys[] = {"network",       "morphometry", "graph_metrics", "skeleton",
+                                                "cave_category", "pattern",     "cross_sections"};
+
+/// Puts the analysis document `analysis` (analysisJson, or null) into the report.json document
+/// `report`: its `kAnalysisKeys` (null when absent) and, when `report` has a stage-2 object,
+/// `stage2.near_protochannels`.
+void putAnalysis(nlohmann::json& report, const nlohmann::json& analysis);
+
+/// The scenario's fracture discs (generateFractureNetwork: deterministic) with their family
+/// statistics measured (measureFractureNetwork): report.json `fracture_network` and images/fractures.png.
+FractureNetwork measuredFractureNetwork(const Scenario& s);
 
 /// The report.json document (its keys: README.md, "Commands" and the output table).
 nlohmann::json buildReportJson(const Scenario& s, const Domain& dom, const RunRecord& rec);

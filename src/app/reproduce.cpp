@@ -212,13 +212,31 @@ void reproduce(const ReproduceOptions& opt, const LogFn& log) {
         }
         return out;
     };
-    md << "## Table 4: morphometric indices\n\nOurs: convex-hull field (rectangular field in parentheses); the "
-          "paper's values from its Table 4. Confined ranges (paper Table 2): "
+    md << "## Table 4: morphometric indices\n\nOurs: Klimchouk's optimised cave field (rectangular field in "
+          "parentheses); the paper's values from its Table 4. The optimised field encloses the cave with a margin of "
+          "half the mean passage spacing: the plan cells, and every cell whose centre lies within S/2 of a plan "
+          "cell's centre and inside the plan's convex hull, S = hull area / cave length (`src/morpho/morphometry.h`). "
+          "The paper's Table 4 is not self-consistent: network density is length / field and areal coverage is "
+          "plan area / field, so density should equal coverage / W; for Figure 10 that is 46.51 % / 2.28 m = "
+          "0.204 m/m², not the 0.317 printed (0.122 with the rectangular field, against 17.94 % / 2.28 m = 0.0787). "
+          "Confined ranges (paper Table 2): "
        << rangeList("confined", 2,
                     std::initializer_list<const char*>{"network_density_opt", "areal_coverage_pct_opt",
                                                        "porosity_pct_opt", "mean_width_m"})
        << ".\n\nThe cave as the stage-2 channels (the default, `" << caveSetting(CaveExtent::kChannels) << "`):\n\n";
     table4(reports);
+    md << "\nRectangle / optimised field (rectangle / convex hull): ";
+    for (const auto& [n, r] : reports) {
+        const nlohmann::json& rect = get(r, {"morphometry", "a_field_rect_m2"});
+        const nlohmann::json& opt = get(r, {"morphometry", "a_field_opt_m2"});
+        const nlohmann::json& hull = get(r, {"morphometry", "a_field_hull_m2"});
+        if (!rect.is_number() || !opt.is_number() || !hull.is_number() || opt.get<double>() <= 0 ||
+            hull.get<double>() <= 0)
+            continue;
+        md << n << " " << fmt(nlohmann::json(rect.get<double>() / opt.get<double>())) << " ("
+           << fmt(nlohmann::json(rect.get<double>() / hull.get<double>())) << "); ";
+    }
+    md << "the paper's Figure 10: 0.317 / 0.122 = 2.6 (from its densities).\n";
     md << "\nThe same runs with the stage-1 protochannels as side passages (`"
        << caveSetting(CaveExtent::kWithProtochannels)
        << "`; the paper's Figures 10–12 show both kinds of channel and its text does not "

@@ -6,11 +6,15 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "app/checkpoint.h"
 #include "app/commands.h"
 #include "app/output_dir.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/fnv.h"
 #include "formats/exports.h"
 #include "sim/preflight.h"
+#include "sim/recharge.h"
 #include "sim/scenario_io.h"
 #include "site/site.h"
 
@@ -25,8 +29,8 @@ std::string validateSummary(const std::string& path) {
     std::snprintf(buf, sizeof buf,
                   "%s: ok: scenario '%s', grid %d x %d x %d (%.3g m voxels), %zu source(s), %zu sink(s), stage 1 %s, "
                   "stage 2 %s",
-                  path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize, s.sources.size(),
-                  s.sinks.size(), s.stage1.enabled ? "on" : "off",
+                  path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize,
+                  s.sources.size() + rechargeSources(s).size(), s.sinks.size(), s.stage1.enabled ? "on" : "off",
                   s.stage2.enabled ? (std::to_string(s.stage2.iterations) + " iterations").c_str() : "off");
     return std::string(buf) + "; " + describeEstimate(estimateRun(s, int(tbb::info::default_concurrency())));
 }
@@ -44,8 +48,13 @@ std::uint64_t parseSeed(const std::string& text) {
     return v;
 }
 
-Scenario requestedScenario(const RunRequest& request) {
-    Scenario s = request.scenarioPath ? parseScenarioFile(*request.scenarioPath) : defaultScenario();
+namespace {
+
+/// requestedScenario, with the scenario file's `text` read earlier when it is given.
+Scenario scenarioFor(const RunRequest& request, const std::string* text) {
+    Scenario s = request.scenarioPath ? (text ? parseScenarioString(*text, *request.scenarioPath)
+                                              : parseScenarioFile(*request.scenarioPath))
+                                      : defaultScenario();
     if (request.seed) s.seed = parseSeed(*request.seed);
     if (request.meshStyle) s.output.meshStyle = *request.meshStyle;
     if (request.formats) s.output.formats = formats::formatList(formats::parseFormatSet(*request.formats));
@@ -55,10 +64,23 @@ Scenario requestedScenario(const RunRequest& request) {
     return s;
 }
 
-RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbacks) {
-    const Scenario s = requestedScenario(request);
+std::uint64_t scenarioHash(const Scenario& s) {
+    const std::string text = scenarioToToml(s);
+    Fnv1a64 h;
+    h.add(text.data(), text.size());
+    return h.value();
+}
+
+/// A run of `s` as `request` asks, continuing from `resume` when it is given.
+RunOutcome execute(const RunRequest& request, const Scenario& s, const PipelineOptions& callbacks,
+                   const Checkpoint* resume, const std::string& resumeName) {
     const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
     checkMemory(estimateRun(s, threads), readMemoryLimits());  // before any work, the output folder included
+    if (request.checkpointEvery > 0 &&
+        (!s.stage2.phases.empty() || s.stage2.hydrology.waterTable >= 0 || s.stage2.hydrology.fromSite))
+        throw InputError(s.path +
+                         ": --checkpoint-every: checkpoints are not available yet for runs with a water "
+                         "table ([hydrology]) or [[phase]] entries; run without --checkpoint-every");
     const fs::path out = request.outDir.empty() ? fs::path("out") / s.name : fs::path(request.outDir);
     OutputDir dir(out, request.force);  // refuses a non-empty directory before any work
 
@@ -69,12 +91,77 @@ RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbac
         options.log("scenario '" + s.name + "' (" + s.path + "), grid " + std::to_string(s.size[0]) + "x" +
                     std::to_string(s.size[1]) + "x" + std::to_string(s.size[2]) + ", seed " + std::to_string(s.seed) +
                     ", " + std::to_string(threads) + " thread(s)");
+    const fs::path checkpoints = checkpointDir(dir.target());
+    if (request.checkpointEvery > 0) {
+        Checkpoint& c = options.checkpoint;
+        c.every = request.checkpointEvery;
+        if (request.scenarioPath) {
+            c.scenarioPath = *request.scenarioPath;
+            c.scenarioText = resume ? resume->scenarioText : readFileBytes(*request.scenarioPath);
+        }
+        c.seed = request.seed;
+        c.formats = request.formats;
+        c.meshStyle = request.meshStyle;
+        c.meshNormals = request.meshNormals;
+        c.force = request.force;
+        c.scenarioHash = scenarioHash(s);
+        std::error_code ec;
+        fs::create_directories(checkpoints, ec);
+        if (ec) throw InputError("cannot create the checkpoint folder " + checkpoints.string() + ": " + ec.message());
+        options.checkpointDir = checkpoints;
+    }
+    options.resume = resume;
+    options.resumeName = resumeName;
     dir.open();
     const PipelineResult result = runPipeline(s, dir, options);
     // The last safe point: a caller that asked to stop meanwhile gets nothing moved into place.
     reportProgress(options.progress, "moving results into place", 0, 1);
     dir.commit();
+    // The folder is complete: a checkpoint of a run into it (this one's, or an older one's) is spent.
+    std::error_code ec;
+    if (fs::exists(checkpoints, ec)) fs::remove_all(checkpoints, ec);
     return RunOutcome{out, result.totalSeconds, result.breakthroughIteration};
+}
+
+}  // namespace
+
+Scenario requestedScenario(const RunRequest& request) {
+    return scenarioFor(request, nullptr);
+}
+
+RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbacks) {
+    return execute(request, requestedScenario(request), callbacks, nullptr, std::string());
+}
+
+RunOutcome resumeRun(const ResumeRequest& r, const PipelineOptions& callbacks) {
+    const fs::path file = checkpointDir(r.dir) / kCheckpointFile;
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec))
+        throw InputError(r.dir + ": no checkpoint to resume from (" + file.string() +
+                         " is missing; `cavesim run --checkpoint-every N` writes one)");
+    const std::string shown = file.string();
+    const Checkpoint c = decodeCheckpoint(readFileBytes(file), shown);
+    RunRequest request;
+    if (!c.scenarioPath.empty()) request.scenarioPath = c.scenarioPath;
+    request.outDir = r.dir;
+    request.threads = r.threads;
+    request.seed = c.seed;
+    request.force = c.force || r.force;
+    request.meshStyle = c.meshStyle;
+    request.formats = c.formats;
+    request.meshNormals = c.meshNormals;
+    request.checkpointEvery = c.every;
+    const Scenario s = scenarioFor(request, c.scenarioPath.empty() ? nullptr : &c.scenarioText);
+    if (scenarioHash(s) != c.scenarioHash)
+        throw InputError(shown +
+                         ": the scenario it holds no longer reads as the run read it (another version of cavesim?); "
+                         "rerun `cavesim run`");
+    if (!s.stage2.enabled || c.iteration >= s.stage2.iterations)
+        throw InputError(shown + ": a checkpoint after iteration " + std::to_string(c.iteration) +
+                         ", which its scenario's stage 2 does not reach");
+    if (callbacks.log)
+        callbacks.log("resuming from " + shown + ", after stage-2 iteration " + std::to_string(c.iteration));
+    return execute(request, s, callbacks, &c, shown);
 }
 
 }  // namespace cavesim::app

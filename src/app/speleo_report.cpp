@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace cavesim::app {
 namespace {
@@ -17,17 +18,24 @@ std::string fmt(double v, int digits) {
 
 nlohmann::json speleothemsJson(const speleo::DecorationSummary& s) {
     nlohmann::json j;
+    // A speleothem is grown material: at least one level-set voxel from the original ceiling
+    // straight above its tip down to the tip. Convex patches that did not grow (bulges of the
+    // cave's own ceiling) are only counted.
+    std::vector<const speleo::Stalactite*> grown;
+    for (const auto& st : s.stalactites)
+        if (st.grownLength >= s.voxelSize && st.grownLength > 0) grown.push_back(&st);
     long stalagmites = 0;
     double longest = 0, total = 0;
-    for (const auto& st : s.stalactites) {
-        stalagmites += st.dripsOnFloor ? 1 : 0;
-        longest = std::max(longest, st.length);
-        total += st.length;
+    for (const auto* st : grown) {
+        stalagmites += st->dripsOnFloor ? 1 : 0;
+        longest = std::max(longest, st->grownLength);
+        total += st->grownLength;
     }
-    j["stalactites"] = long(s.stalactites.size());
+    j["stalactites"] = long(grown.size());
+    j["convex_patches"] = long(s.stalactites.size());
     j["drip_points_on_floor"] = stalagmites;
     j["longest_m"] = longest;
-    j["mean_length_m"] = s.stalactites.empty() ? 0.0 : total / double(s.stalactites.size());
+    j["mean_length_m"] = grown.empty() ? 0.0 : total / double(grown.size());
     j["years"] = s.years;
     j["steps"] = s.steps;
     j["max_speed_mm_per_yr"] = s.maxSpeed * 1000.0;
@@ -40,10 +48,11 @@ nlohmann::json speleothemsJson(const speleo::DecorationSummary& s) {
                  {"components", s.mesh.components}};
     j["seconds"] = {{"growth", s.secondsGrowth}, {"output", s.secondsOutput}};
     nlohmann::json table = nlohmann::json::array();
-    for (std::size_t i = 0; i < s.stalactites.size() && i < 20; ++i) {
-        const auto& st = s.stalactites[i];
+    // Longest first (decorateCave orders them by grown length).
+    for (std::size_t i = 0; i < grown.size() && i < 20; ++i) {
+        const auto& st = *grown[i];
         table.push_back({{"tip_m", {st.tip[0], st.tip[1], st.tip[2]}},
-                         {"length_m", st.length},
+                         {"length_m", st.grownLength},
                          {"radius_m", st.radius},
                          {"tip_speed_mm_per_yr", st.tipSpeed * 1000.0},
                          {"drip_factor", st.dripFactor},
@@ -58,15 +67,18 @@ void writeSpeleothemsMarkdown(std::ostringstream& md, const nlohmann::json& repo
     if (!report.contains("speleothems") || report["speleothems"].is_null()) return;
     const nlohmann::json& j = report["speleothems"];
     md << "\n## Speleothems\n\n"
-       << j["stalactites"].get<long>() << " stalactite(s) after " << fmt(j["years"].get<double>(), 0) << " years ("
-       << j["steps"].get<int>() << " steps on a " << fmt(j["voxel_size_m"].get<double>() * 100, 1) << " cm level set), "
-       << j["drip_points_on_floor"].get<long>() << " dripping onto the floor (stalagmites); longest "
-       << fmt(j["longest_m"].get<double>() * 100, 1)
+       << j["stalactites"].get<long>() << " stalactite(s) (grown material at least one voxel long, of "
+       << j.value("convex_patches", j["stalactites"].get<long>()) << " convex ceiling patches) after "
+       << fmt(j["years"].get<double>(), 0) << " years (" << j["steps"].get<int>() << " steps on a "
+       << fmt(j["voxel_size_m"].get<double>() * 100, 1) << " cm level set), " << j["drip_points_on_floor"].get<long>()
+       << " dripping onto the floor (stalagmites); longest " << fmt(j["longest_m"].get<double>() * 100, 1)
        << " cm. Mesh `cave_decorated.obj` / `.ply` / `.glb`: " << j["mesh"]["faces"].get<long>() << " faces, closed "
        << (j["mesh"]["closed"].get<bool>() ? "yes" : "no") << ", manifold "
        << (j["mesh"]["manifold"].get<bool>() ? "yes" : "no") << ". Law and limits: docs/speleothems.md.\n\n";
     if (!j["largest"].empty()) {
-        md << "| # | tip x, y, z (m) | length (cm) | radius (cm) | tip speed (mm/yr) | drip factor |\n"
+        md << "Length: from the original ceiling straight above the tip down to the tip (grown material); "
+              "radius: of the convex patch around the tip.\n\n"
+           << "| # | tip x, y, z (m) | length (cm) | radius (cm) | tip speed (mm/yr) | drip factor |\n"
            << "|---|---|---|---|---|---|\n";
         int k = 1;
         for (const auto& r : j["largest"]) {

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <zlib.h>
 
+#include "core/bytes.h"
 #include "core/check.h"
 #include "core/error.h"
 #include "core/fnv.h"
@@ -18,42 +19,14 @@ constexpr char kMagic[16] = {'C', 'A', 'V', 'E', 'S', 'I', 'M', '-', 'S', 'T', '
 constexpr std::uint32_t kVersion = 1;
 constexpr std::uint8_t kFloat = 1, kInt = 2;
 
-template <typename T>
-void put(std::string& out, T v) {
-    out.append(reinterpret_cast<const char*>(&v), sizeof v);
+/// Bounds-checked reading from the file's bytes: every read names what it wanted when it runs out.
+ByteReader stateReader(const std::string& bytes, std::size_t end, const std::string& shown) {
+    return ByteReader(bytes.data(), end, shown, "not a state file this program wrote, or damaged",
+                      "; rerun `cavesim run`");
 }
 
-/// Bounds-checked reading from the file's bytes: every read names what it wanted when it runs out.
-class Reader {
-public:
-    Reader(const std::string& bytes, std::size_t end, const std::string& shown)
-        : bytes_(bytes), end_(end), shown_(shown) {}
-    template <typename T>
-    T get(const char* what) {
-        T v;
-        std::memcpy(&v, take(sizeof v, what), sizeof v);
-        return v;
-    }
-    const char* take(std::size_t n, const char* what) {
-        if (n > end_ - at_) fail(std::string("ends inside ") + what);
-        const char* p = bytes_.data() + at_;
-        at_ += n;
-        return p;
-    }
-    std::size_t at() const { return at_; }
-    [[noreturn]] void fail(const std::string& why) const {
-        throw InputError(shown_ + ": not a state file this program wrote, or damaged (" + why + " at byte " +
-                         std::to_string(at_) + "); rerun `cavesim run`");
-    }
-
-private:
-    const std::string& bytes_;
-    std::size_t end_, at_ = 0;
-    const std::string& shown_;
-};
-
 template <typename T>
-void decodeValues(Reader& in, std::vector<T>& out, std::size_t count) {
+void decodeValues(ByteReader& in, std::vector<T>& out, std::size_t count) {
     const std::uint32_t chunks = in.get<std::uint32_t>("a chunk count");
     const std::uint64_t sum = in.get<std::uint64_t>("a grid checksum");
     const std::size_t wanted = (count + kStateChunkValues - 1) / kStateChunkValues;
@@ -80,6 +53,7 @@ void decodeValues(Reader& in, std::vector<T>& out, std::size_t count) {
 
 template <typename T>
 void encodeValues(std::string& out, const std::vector<T>& values) {
+    ByteWriter w(out);
     const std::size_t n = values.size();
     const std::size_t chunks = (n + kStateChunkValues - 1) / kStateChunkValues;
     std::vector<std::string> packed(chunks);
@@ -95,11 +69,11 @@ void encodeValues(std::string& out, const std::vector<T>& values) {
     });
     Fnv1a64 h;
     h.add(values.data(), n * sizeof(T));
-    put(out, std::uint32_t(chunks));
-    put(out, h.value());
+    w.put(std::uint32_t(chunks));
+    w.put(h.value());
     for (std::size_t c = 0; c < chunks; ++c) {
-        put(out, std::uint32_t(std::min<std::size_t>(kStateChunkValues, n - c * kStateChunkValues)));
-        put(out, std::uint32_t(packed[c].size()));
+        w.put(std::uint32_t(std::min<std::size_t>(kStateChunkValues, n - c * kStateChunkValues)));
+        w.put(std::uint32_t(packed[c].size()));
         out += packed[c];
     }
 }
@@ -115,19 +89,20 @@ bool validName(const std::string& name) {
 std::string encodeState(const Dims& dims, double voxelSize, const std::vector<StateGridRef>& grids) {
     CAVESIM_CHECK(grids.size() <= std::size_t(kMaxStateGrids), "too many grids for a state file");
     std::string out(kMagic, sizeof kMagic);
-    put(out, kVersion);
-    put(out, std::uint32_t(dims.nx));
-    put(out, std::uint32_t(dims.ny));
-    put(out, std::uint32_t(dims.nz));
-    put(out, voxelSize);
-    put(out, std::uint32_t(grids.size()));
+    ByteWriter w(out);
+    w.put(kVersion);
+    w.put(std::uint32_t(dims.nx));
+    w.put(std::uint32_t(dims.ny));
+    w.put(std::uint32_t(dims.nz));
+    w.put(voxelSize);
+    w.put(std::uint32_t(grids.size()));
     for (const StateGridRef& g : grids) {
         CAVESIM_CHECK(validName(g.name) && (g.floats != nullptr) != (g.ints != nullptr), "bad state grid " + g.name);
         CAVESIM_CHECK(g.floats ? g.floats->dims == dims : g.ints->dims == dims,
                       "state grid " + g.name + " is not on the grid");
-        put(out, std::uint8_t(g.name.size()));
+        w.put(std::uint8_t(g.name.size()));
         out += g.name;
-        put(out, g.floats ? kFloat : kInt);
+        w.put(g.floats ? kFloat : kInt);
         if (g.floats)
             encodeValues(out, g.floats->data);
         else
@@ -135,15 +110,15 @@ std::string encodeState(const Dims& dims, double voxelSize, const std::vector<St
     }
     Fnv1a64 h;
     h.add(out.data(), out.size());
-    put(out, h.value());
+    w.put(h.value());
     return out;
 }
 
 StateContents decodeState(const std::string& bytes, const std::string& shown, const Dims& expected,
                           std::size_t maxVoxels) {
-    if (bytes.size() < sizeof kMagic + 8) Reader(bytes, 0, shown).fail("too short");
+    if (bytes.size() < sizeof kMagic + 8) stateReader(bytes, 0, shown).fail("too short");
     const std::size_t body = bytes.size() - 8;
-    Reader in(bytes, body, shown);
+    ByteReader in = stateReader(bytes, body, shown);
     if (std::memcmp(in.take(sizeof kMagic, "the magic number"), kMagic, sizeof kMagic) != 0)
         in.fail("no state-file magic number");
     std::uint64_t recorded;

@@ -1,11 +1,15 @@
 // The cavesim command: parses arguments, calls the library, reports errors, sets the exit code.
 //   0 ok, 1 runtime failure, 2 bad input (scenario, arguments, output directory).
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <new>
 
 #include <CLI/CLI.hpp>
 
+#include "app/checkpoint.h"
 #include "app/commands.h"
 #include "app/ensemble.h"
 #include "cli/interrupt.h"
@@ -63,7 +67,23 @@ int main(int argc, char** argv) {
     std::string meshNormals;
     runCmd->add_option("--mesh-normals", meshNormals, "outward (default) or inward: the side cave.glb's normals face")
         ->check(CLI::IsMember(choiceNames(meshNormalsKey)));
+    runCmd
+        ->add_option("--checkpoint-every", run.checkpointEvery,
+                     "Write a checkpoint after every N-th stage-2 iteration (0: none, the default), for "
+                     "`cavesim resume`; the output files are the same either way")
+        ->check(CLI::Range(0, 1000000000));
     runCmd->add_flag("--quiet,-q", quiet, "No progress output");
+
+    app::ResumeRequest resume;
+    CLI::App* resumeCmd = app.add_subcommand(
+        "resume",
+        "Finish a stopped `run --checkpoint-every N` from its newest checkpoint: the same files as a run "
+        "that never stopped");
+    resumeCmd->add_option("dir", resume.dir, "Output directory of the stopped run (its --out)")->required();
+    resumeCmd->add_option("--threads,-j", resume.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    resumeCmd->add_flag("--force,-f", resume.force, "Replace a non-empty output directory");
+    resumeCmd->add_flag("--quiet,-q", quiet, "No progress output");
 
     std::string validatePath;
     CLI::App* validateCmd = app.add_subcommand("validate", "Check a scenario file and print a summary");
@@ -111,13 +131,18 @@ int main(int argc, char** argv) {
     }
 
     try {
-        if (*runCmd) {
+        if (*runCmd || *resumeCmd) {
             if (!meshStyle.empty()) run.meshStyle = choiceValue<MeshStyle>(meshStyleKey, meshStyle);
             if (!meshNormals.empty()) run.meshNormals = choiceValue<MeshNormals>(meshNormalsKey, meshNormals);
             cli::ProgressBar bar(quiet);
             cli::installStopHandlers();  // the callbacks below are the run's safe points
+            // For the tests of checkpoints only: the process kills itself (SIGKILL, no clean-up) when
+            // stage 2 reports this iteration done, right after its checkpoint.
+            const char* killAt = std::getenv("CAVESIM_TEST_KILL_AT_ITERATION");
+            const long killIteration = killAt ? std::atol(killAt) : 0;
             app::PipelineOptions callbacks;
-            callbacks.progress = [&bar](const std::string& phase, long done, long total) {
+            callbacks.progress = [&bar, killIteration](const std::string& phase, long done, long total) {
+                if (killIteration > 0 && phase == "stage 2" && done == killIteration) std::raise(SIGKILL);
                 cli::throwIfStopped();
                 bar.update(phase, done, total);
             };
@@ -125,7 +150,7 @@ int main(int argc, char** argv) {
                 cli::throwIfStopped();
                 bar.log(message);
             };
-            const app::RunOutcome done = app::runScenario(run, callbacks);
+            const app::RunOutcome done = *runCmd ? app::runScenario(run, callbacks) : app::resumeRun(resume, callbacks);
             bar.log("wrote " + done.out.string() + " in " + std::to_string(done.seconds).substr(0, 5) + " s" +
                     (done.breakthroughIteration
                          ? ", breakthrough at iteration " + std::to_string(*done.breakthroughIteration)
@@ -163,7 +188,12 @@ int main(int argc, char** argv) {
             return 0;
         }
     } catch (const Cancelled& e) {
-        std::fprintf(stderr, "\ncavesim: interrupted by %s: stopped, the unfinished output was removed\n", e.what());
+        // A checkpoint of the stopped run (run --checkpoint-every, resume) stays for `cavesim resume`.
+        const std::string dir = *resumeCmd ? resume.dir : run.checkpointEvery > 0 ? run.outDir : std::string();
+        std::error_code ec;
+        const bool kept = !dir.empty() && std::filesystem::exists(app::checkpointDir(dir) / app::kCheckpointFile, ec);
+        std::fprintf(stderr, "\ncavesim: interrupted by %s: stopped, the unfinished output was removed%s\n", e.what(),
+                     kept ? ("; its checkpoint is kept: `cavesim resume " + dir + "` continues it").c_str() : "");
         return 128 + cli::stopSignal();
     } catch (const InputError& e) {
         std::fprintf(stderr, "cavesim: error: %s\n", e.what());

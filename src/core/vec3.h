@@ -12,6 +12,9 @@
 
 namespace cavesim {
 
+/// π to double precision.
+inline constexpr double kPi = 3.14159265358979323846;
+
 /// A 3-vector (x, y, z).
 using Vec3d = std::array<double, 3>;
 

@@ -495,6 +495,105 @@ std::size_t EikonalField::settle(const Grid3<float>& slowness) {
     return decrease(slowness, {}, kInf);
 }
 
+namespace {
+
+void putEntries(ByteWriter& out, const std::vector<HeapEntry>& entries) {
+    out.put(std::uint64_t(entries.size()));
+    for (const HeapEntry& e : entries) {
+        out.put(e.first);
+        out.put(std::uint64_t(e.second));
+    }
+}
+
+void getEntries(ByteReader& in, std::vector<HeapEntry>& entries, const char* what, std::size_t voxels) {
+    const std::uint64_t n = in.get<std::uint64_t>(what);
+    if (n > in.left() / 16) in.fail(std::string("ends inside ") + what);
+    entries.resize(std::size_t(n));
+    for (HeapEntry& e : entries) {
+        e.first = in.get<double>(what);
+        const std::uint64_t v = in.get<std::uint64_t>(what);
+        if (v >= voxels) in.fail("a queued voxel outside the grid");
+        if (!(e.first >= 0) || !std::isfinite(e.first)) in.fail("a queued value that is not a finite number >= 0");
+        e.second = std::size_t(v);
+    }
+}
+
+}  // namespace
+
+void EikonalField::save(ByteWriter& out) const {
+    out.put(std::uint32_t(dims_.nx));
+    out.put(std::uint32_t(dims_.ny));
+    out.put(std::uint32_t(dims_.nz));
+    out.put(cap_);
+    out.put(std::uint8_t(stencil_));
+    out.putVector(value_.data);
+    out.putVector(seed_);
+    putEntries(out, pending_);
+    out.put(std::uint64_t(pendingCompacted_));
+    out.put(std::uint8_t(useBuckets_ ? 1 : 0));
+    out.put(buckets_.width);
+    out.put(std::uint64_t(buckets_.lowest));
+    out.put(std::uint64_t(buckets_.count));
+    out.put(std::uint64_t(buckets_.compacted));
+    out.put(std::uint64_t(buckets_.bucket.size()));
+    std::uint64_t filled = 0;
+    for (const auto& b : buckets_.bucket) filled += b.empty() ? 0 : 1;
+    out.put(filled);
+    for (std::size_t b = 0; b < buckets_.bucket.size(); ++b)
+        if (!buckets_.bucket[b].empty()) {
+            out.put(std::uint64_t(b));
+            putEntries(out, buckets_.bucket[b]);
+        }
+}
+
+void EikonalField::restore(ByteReader& in, const Dims& dims) {
+    const std::uint32_t nx = in.get<std::uint32_t>("the pressure grid size"),
+                        ny = in.get<std::uint32_t>("the pressure grid size"),
+                        nz = in.get<std::uint32_t>("the pressure grid size");
+    if (!(Dims{int(nx), int(ny), int(nz)} == dims)) in.fail("a pressure field on another grid");
+    EikonalField f;
+    f.dims_ = dims;
+    f.cap_ = in.get<double>("the pressure cap");
+    const std::uint8_t stencil = in.get<std::uint8_t>("the stencil");
+    if (stencil > std::uint8_t(Stencil::kAvalanche26)) in.fail("an unknown stencil");
+    f.stencil_ = Stencil(stencil);
+    f.value_.dims = dims;
+    in.getVector(f.value_.data, "the pressure values", dims.count());
+    if (!(f.cap_ >= 0) || !std::isfinite(f.cap_)) in.fail("a pressure cap that is not a finite number >= 0");
+    for (double v : f.value_.data)
+        if (!(v >= 0) || !(v <= f.cap_)) in.fail("a pressure value outside [0, cap]");
+    in.getVector(f.seed_, "the pressure seeds", dims.count());
+    getEntries(in, f.pending_, "the pending sweep", dims.count());
+    if (!std::is_heap(f.pending_.begin(), f.pending_.end(), std::greater<HeapEntry>()))
+        in.fail("a pending sweep that is not a heap");
+    f.pendingCompacted_ = std::size_t(in.get<std::uint64_t>("the pending sweep"));
+    const std::uint8_t buckets = in.get<std::uint8_t>("the queue kind");
+    if (buckets > 1) in.fail("an unknown queue kind");
+    f.useBuckets_ = buckets == 1;
+    f.buckets_.width = in.get<double>("the bucket width");
+    f.buckets_.lowest = std::size_t(in.get<std::uint64_t>("the bucket queue"));
+    f.buckets_.count = std::size_t(in.get<std::uint64_t>("the bucket queue"));
+    f.buckets_.compacted = std::size_t(in.get<std::uint64_t>("the bucket queue"));
+    const std::uint64_t nBuckets = in.get<std::uint64_t>("the bucket queue");
+    const std::uint64_t filled = in.get<std::uint64_t>("the bucket queue");
+    if (nBuckets > (std::uint64_t(1) << 22) || filled > nBuckets || (f.useBuckets_ && nBuckets == 0) ||
+        !(f.buckets_.width > 0) || f.buckets_.lowest > nBuckets || (nBuckets > 0 && f.buckets_.lowest >= nBuckets))
+        in.fail("an inconsistent bucket queue");
+    f.buckets_.bucket.resize(std::size_t(nBuckets));
+    std::size_t count = 0;
+    std::uint64_t previous = 0;
+    for (std::uint64_t k = 0; k < filled; ++k) {
+        const std::uint64_t b = in.get<std::uint64_t>("a bucket index");
+        if (b >= nBuckets || (k > 0 && b <= previous) || b < f.buckets_.lowest) in.fail("a misplaced bucket");
+        previous = b;
+        getEntries(in, f.buckets_.bucket[std::size_t(b)], "a bucket", dims.count());
+        if (f.buckets_.bucket[std::size_t(b)].empty()) in.fail("an empty bucket listed");
+        count += f.buckets_.bucket[std::size_t(b)].size();
+    }
+    if (count != f.buckets_.count) in.fail("a bucket queue whose count does not match its entries");
+    *this = std::move(f);
+}
+
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
                               const std::vector<double>& labelSpeed) {
     CAVESIM_CHECK(!slowness || slowness->dims == dims, "marchLabelled: slowness grid has other dims");

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/bytes.h"
 #include "core/grid.h"
 
 namespace cavesim::fastmarch {
@@ -104,6 +105,15 @@ public:
 
     const Grid3<double>& value() const { return value_; }
     double cap() const { return cap_; }
+
+    /// Appends everything the field carries from one call to the next (values, seeds, the stencil,
+    /// the queue with the pending part of a limited sweep, entry for entry in its order) to `out`:
+    /// a field restored from these bytes returns the same bits from every later call (checkpoints).
+    void save(ByteWriter& out) const;
+    /// Replaces this field by one `save` wrote for a grid of `dims`.
+    /// @throw InputError (from `in`) on bytes that are not such a field: sizes, voxel indices and
+    ///        queue bookkeeping are all checked before use
+    void restore(ByteReader& in, const Dims& dims);
 
 private:
     Dims dims_;

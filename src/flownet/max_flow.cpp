@@ -12,6 +12,7 @@
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 #include <boost/graph/compressed_sparse_row_graph.hpp>
 #include <boost/graph/edmonds_karp_max_flow.hpp>
+#include <boost/property_map/function_property_map.hpp>
 #include <boost/property_map/property_map.hpp>
 
 #include "core/check.h"
@@ -70,20 +71,28 @@ std::size_t bytesOf(const std::vector<T>& v) {
     return v.capacity() * sizeof(T);
 }
 
+/// The reverse of an arc as a Boost edge descriptor, computed on demand from the network's
+/// `arcReverse` (no per-arc array of descriptors).
+struct ReverseEdge {
+    const FlowNetwork* net;
+    Edge operator()(const Edge& e) const {
+        const ArcId a = ArcId(e.idx);
+        return Edge(net->arcTarget[a], net->arcReverse[a]);
+    }
+};
+
 /// The network's topology as a Boost CSR graph, with the vertex maps the solvers need. Arc data
-/// (capacities, residuals) stay in plain vectors indexed by arc and are passed per solve.
+/// (capacities, residuals) stay in plain vectors indexed by arc and are passed per solve; the
+/// reverse-edge map reads the network's `arcReverse`.
 class BoostSolver {
 public:
     explicit BoostSolver(const FlowNetwork& net)
         : net_(net),
           g_(boost::edges_are_sorted, ArcPairIterator(net, 0), ArcPairIterator(net, ArcId(net.arcCount())),
              net.nodeCount()),
-          reverse_(net.arcCount()),
           predecessor_(net.nodeCount()),
           color_(net.nodeCount()),
-          distance_(net.nodeCount(), 0) {
-        for (ArcId a = 0; a < net.arcCount(); ++a) reverse_[a] = Edge(net.arcTarget[a], net.arcReverse[a]);
-    }
+          distance_(net.nodeCount(), 0) {}
 
     /// Max flow with capacities `cap`; `res` receives the residual capacities. Returns the value.
     double run(const std::vector<double>& cap, std::vector<double>& res, MaxFlowAlgorithm algorithm) {
@@ -91,7 +100,7 @@ public:
         const auto vertexIndex = get(boost::vertex_index, g_);
         const auto capMap = boost::make_iterator_property_map(cap.cbegin(), edgeIndex);
         const auto resMap = boost::make_iterator_property_map(res.begin(), edgeIndex);
-        const auto revMap = boost::make_iterator_property_map(reverse_.cbegin(), edgeIndex);
+        const auto revMap = boost::make_function_property_map<Edge, Edge>(ReverseEdge{&net_});
         const auto predMap = boost::make_iterator_property_map(predecessor_.begin(), vertexIndex);
         const auto colorMap = boost::make_iterator_property_map(color_.begin(), vertexIndex);
         if (algorithm == MaxFlowAlgorithm::EdmondsKarp)
@@ -102,17 +111,16 @@ public:
                                                  net_.source, net_.sink);
     }
 
-    /// Topology (4 B per arc and node), reverse map, vertex maps, and Boykov–Kolmogorov's own
-    /// per-vertex arrays (time stamp, two flags).
+    /// Topology (4 B per arc and node), vertex maps, and Boykov–Kolmogorov's own per-vertex
+    /// arrays (time stamp, two flags).
     std::size_t bytes() const {
-        return bytesOf(reverse_) + bytesOf(predecessor_) + bytesOf(color_) + bytesOf(distance_) +
+        return bytesOf(predecessor_) + bytesOf(color_) + bytesOf(distance_) +
                (net_.nodeCount() + 1 + net_.arcCount()) * sizeof(NodeId) + net_.nodeCount() * (sizeof(long) + 1);
     }
 
 private:
     const FlowNetwork& net_;
     Graph g_;
-    std::vector<Edge> reverse_;
     std::vector<Edge> predecessor_;
     std::vector<boost::default_color_type> color_;
     std::vector<long> distance_;
@@ -160,16 +168,25 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     const double flowEps = 1e-12 * maxCap;  // residuals below this are round-off, not capacity
     constexpr double kInf = std::numeric_limits<double>::infinity();
 
+    // Resistance of arc a: the network's, except on the arcs between the protosinks and the
+    // super-sink (the sink's own arcs, [sinkBegin, end), and their reverses), whose costs are set
+    // below in `sinkCost`, indexed by the sink's arc.
+    const ArcId sinkBegin = net.arcBegin[net.sink];
+    std::vector<double> sinkCost(arcs - sinkBegin, 0.0);
+    const auto resistanceOf = [&](ArcId a) {
+        if (a >= sinkBegin) return sinkCost[a - sinkBegin];
+        if (net.arcTarget[a] == net.sink) return sinkCost[net.arcReverse[a] - sinkBegin];
+        return net.resistance[a];
+    };
     // Arc cost w and residual r of pushing along arc a given the current net flow: first cancel
     // flow running the other way (refunding its resistance), then add flow (paying it).
-    std::vector<double> resistance = net.resistance;  // sink-arc costs set below
     const auto residualOf = [&](ArcId a, double& w) {
         const double f = flow[a];
         if (f < 0) {
-            w = -resistance[a];
+            w = -resistanceOf(a);
             return -f;
         }
-        w = resistance[a];
+        w = resistanceOf(a);
         return net.capacity[a] - f;
     };
 
@@ -215,8 +232,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     for (NodeId p : net.protosinks) {
         const ArcId a = net.arcBegin[p + 1] - 1;  // p → sink (its last arc)
         const double c = options.equalizeProtosinks && dist[p] < kInf ? longest - dist[p] : 0.0;
-        resistance[a] = c;
-        resistance[net.arcReverse[a]] = c;
+        sinkCost[net.arcReverse[a] - sinkBegin] = c;
     }
     const double toSink = options.equalizeProtosinks ? longest : nearest;
     for (std::size_t v = 0; v < nodes; ++v) pi[v] = std::min(dist[v], toSink);
@@ -253,7 +269,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         out.value += pushed;
         if (last) break;
     }
-    out.solverBytes = solver.bytes() + bytesOf(resistance) + bytesOf(pi) + bytesOf(dist) + bytesOf(settled) +
+    out.solverBytes = solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(settled) +
                       bytesOf(phaseCap) + bytesOf(phaseRes);
     out.cost = flowCost(net, flow);
     return out;

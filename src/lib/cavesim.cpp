@@ -343,7 +343,7 @@ void Scenario::clear(const std::string& tableArray) {
 }
 
 Value Scenario::get(const std::string& key) const {
-    const toml::table all = scenarioTable(impl_->scenario);
+    const toml::table all = scenarioTable(impl_->scenario, true);
     const toml::node* n = &all;
     for (const std::string& part : splitKey(key)) {
         n = n->is_table() ? n->as_table()->get(part) : nullptr;
@@ -535,7 +535,7 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     if (options.analysis) {
         reportProgress(progress, "analysis", 0, 1);
         const Stopwatch tr;
-        const morpho::CaveAnalysis a = app::analyseRun(cave, dom, s, rec);
+        const morpho::CaveAnalysis a = app::analyseRun(cave, dom, s, app::connectedIterations(rec));
         rec.analysis = app::analysisJson(a);
         rec.timing.report = tr.seconds();
         for (const morpho::SkeletonNode& n : a.skeleton.nodes) {
@@ -571,6 +571,7 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     report.seed = s.seed;
     report.threads = threads;
     report.timing = {rec.timing.stage1, rec.timing.stage2, rec.timing.mesh, rec.timing.report, rec.timing.total};
+    if (!s.fractureFamilies.empty()) rec.fractures = app::measuredFractureNetwork(s);
     report.json = app::buildReportJson(s, dom, rec).dump(2);
     out->porosity = app::recordedPorosity(dom, s, app::StateMoment::kFinal);
     out->caveMask = cave.mask;

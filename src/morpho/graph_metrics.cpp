@@ -13,11 +13,11 @@
 #include <tbb/parallel_for.h>
 
 #include "core/check.h"
+#include "core/vec3.h"
 
 namespace cavesim::morpho {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// Fraction of a histogram bin below an edge that still counts in the upper bin (round-off guard).
 constexpr double kBinEdgeTolerance = 1e-9;
 
@@ -359,6 +359,7 @@ GraphMetrics metricsOf(const Skeleton& s) {
     m.components = labelComponents(adj, n, label);
     m.loops = long(edges.size()) - long(n) + m.components;
     m.branches = long(branches.size());
+    m.too_small = m.branches < kMinNetworkBranches;
 
     // Branch geometry.
     if (!branches.empty()) {
@@ -533,6 +534,7 @@ nlohmann::json toJson(const GraphMetrics& m) {
     j["reduced_nodes"] = m.reduced_nodes;
     j["reduced_edges"] = m.reduced_edges;
     j["pair_sources"] = m.pair_sources;
+    j["too_small"] = m.too_small;
     return j;
 }
 

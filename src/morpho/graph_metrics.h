@@ -60,6 +60,10 @@
 
 namespace cavesim::morpho {
 
+/// A skeleton with fewer branches than this is too small for network statistics: its metrics are
+/// reported, but not compared with the ranges of real caves (`GraphMetrics::too_small`).
+inline constexpr long kMinNetworkBranches = 10;
+
 /// The network metrics of Collon et al. 2017 (`report.json` "graph_metrics"). A metric that is undefined
 /// for the graph (e.g. `r_k` without edges, `cv_len` of one branch) is empty and serialised as null.
 struct GraphMetrics {
@@ -76,6 +80,7 @@ struct GraphMetrics {
     std::optional<double> tortuosity;  ///< mean length / straight distance over non-loop branches, ≥ 1
 
     long branches = 0;       ///< branches of the skeleton (loop branches included)
+    bool too_small = true;   ///< branches < kMinNetworkBranches: too small for network statistics
     long loop_branches = 0;  ///< branches whose two ends are the same node
     long loops = 0;          ///< independent cycles of the skeleton: edges − nodes + components
     long components = 0;     ///< connected components of the skeleton (isolated nodes included)
@@ -132,7 +137,7 @@ GraphMetrics computeGraphMetrics(const Skeleton& skeleton);
 std::optional<double> axisAlignedShare(const Skeleton& skeleton, double toleranceDeg = 5.0);
 
 /// {"k_mean", "r_k", "spl", "cpd", "h_or", "axis_aligned_share", "len_mean_m", "cv_len", "h_len", "tortuosity", the
-/// counts}; undefined metrics are null.
+/// counts, "too_small" (fewer than kMinNetworkBranches branches)}; undefined metrics are null.
 nlohmann::json toJson(const GraphMetrics& m);
 
 }  // namespace cavesim::morpho

@@ -14,6 +14,7 @@
 
 #include "core/check.h"
 #include "morpho/graph_metrics.h"
+#include "morpho/skeleton.h"
 
 namespace cavesim::morpho {
 namespace {
@@ -35,11 +36,13 @@ double ratio(double a, double b) {
     return b > 0.0 ? a / b : 0.0;
 }
 
-/// Area (in cell units) of the convex hull of the plan cells' corners. Only the first and the last
-/// cell of each row can put a corner on the hull, so 4 points per row suffice.
-double hullArea(const std::vector<int>& rowMin, const std::vector<int>& rowMax) {
-    namespace bg = boost::geometry;
-    using Point = bg::model::d2::point_xy<double>;
+namespace bg = boost::geometry;
+using Point = bg::model::d2::point_xy<double>;
+using Polygon = bg::model::polygon<Point>;
+
+/// The convex hull of the plan cells' corners (cell units). Only the first and the last cell of
+/// each row can put a corner on the hull, so 4 points per row suffice.
+Polygon planHull(const std::vector<int>& rowMin, const std::vector<int>& rowMax) {
     bg::model::multi_point<Point> corners;
     for (std::size_t j = 0; j < rowMin.size(); ++j) {
         if (rowMin[j] > rowMax[j]) continue;  // empty row
@@ -50,10 +53,43 @@ double hullArea(const std::vector<int>& rowMin, const std::vector<int>& rowMax) 
         bg::append(corners, Point(x1, y0));
         bg::append(corners, Point(x1, y1));
     }
-    if (corners.empty()) return 0.0;
-    bg::model::polygon<Point> hull;
-    bg::convex_hull(corners, hull);
-    return std::abs(bg::area(hull));
+    Polygon hull;
+    if (!corners.empty()) bg::convex_hull(corners, hull);
+    return hull;
+}
+
+/// Cells (cell units) of the optimised field: cells of the plan's bounding box whose centre lies
+/// within `margin` cells of the centre of a plan cell and inside or on the hull.
+long optimisedFieldCells(const std::vector<char>& column, int nx, int iMin, int iMax, int jMin, int jMax, double margin,
+                         const Polygon& hull) {
+    const int w = iMax - iMin + 1, hgt = jMax - jMin + 1;
+    const double big = double(w) * w + double(hgt) * hgt + 1.0;
+    std::vector<double> dist(std::size_t(w) * std::size_t(hgt));
+    std::vector<double> line, d(std::size_t(std::max(w, hgt)));
+    std::vector<int> vtx;
+    std::vector<double> z;
+    for (int j = 0; j < hgt; ++j) {  // rows
+        line.assign(std::size_t(w), big);
+        for (int i = 0; i < w; ++i)
+            if (column[std::size_t(i + iMin) + std::size_t(nx) * std::size_t(j + jMin)]) line[std::size_t(i)] = 0;
+        envelope1d(line.data(), w, d.data(), vtx, z);
+        for (int i = 0; i < w; ++i) dist[std::size_t(i) + std::size_t(w) * std::size_t(j)] = d[std::size_t(i)];
+    }
+    for (int i = 0; i < w; ++i) {  // columns
+        line.resize(std::size_t(hgt));
+        for (int j = 0; j < hgt; ++j) line[std::size_t(j)] = dist[std::size_t(i) + std::size_t(w) * std::size_t(j)];
+        envelope1d(line.data(), hgt, d.data(), vtx, z);
+        for (int j = 0; j < hgt; ++j) dist[std::size_t(i) + std::size_t(w) * std::size_t(j)] = d[std::size_t(j)];
+    }
+    const double m2 = margin * margin;
+    long cells = 0;
+    for (int j = 0; j < hgt; ++j)
+        for (int i = 0; i < w; ++i) {
+            if (dist[std::size_t(i) + std::size_t(w) * std::size_t(j)] > m2) continue;
+            const Point centre(double(i + iMin) + 0.5, double(j + jMin) + 0.5);
+            if (bg::covered_by(centre, hull)) ++cells;
+        }
+    return cells;
 }
 
 }  // namespace
@@ -113,11 +149,24 @@ Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& 
     m.volume_m3 = double(m.cave_voxels) * h2 * h;
     m.vertical_range_m = double(kMax - kMin + 1) * h;
     m.a_field_rect_m2 = double(iMax - iMin + 1) * double(jMax - jMin + 1) * h2;
-    m.a_field_opt_m2 = hullArea(rowMin, rowMax) * h2;
+    const Polygon hull = planHull(rowMin, rowMax);
+    m.a_field_hull_m2 = std::abs(bg::area(hull)) * h2;
+    if (m.length_m > 0) {
+        m.passage_spacing_m = m.a_field_hull_m2 / m.length_m;
+        m.field_margin_m = m.passage_spacing_m / 2;
+        m.a_field_opt_m2 =
+            double(optimisedFieldCells(column, d.nx, iMin, iMax, jMin, jMax, m.field_margin_m / h, hull)) * h2;
+    } else {
+        m.a_field_opt_m2 = m.a_field_hull_m2;  // no centreline, no spacing: the hull
+    }
     m.v_block_rect_m3 = m.a_field_rect_m2 * m.vertical_range_m;
+    m.v_block_hull_m3 = m.a_field_hull_m2 * m.vertical_range_m;
     m.v_block_opt_m3 = m.a_field_opt_m2 * m.vertical_range_m;
     m.network_density_rect = ratio(m.length_m, m.a_field_rect_m2);
     m.network_density_opt = ratio(m.length_m, m.a_field_opt_m2);
+    m.network_density_hull = ratio(m.length_m, m.a_field_hull_m2);
+    m.areal_coverage_pct_hull = 100.0 * ratio(m.area_m2, m.a_field_hull_m2);
+    m.porosity_pct_hull = 100.0 * ratio(m.volume_m3, m.v_block_hull_m3);
     m.areal_coverage_pct_rect = 100.0 * ratio(m.area_m2, m.a_field_rect_m2);
     m.areal_coverage_pct_opt = 100.0 * ratio(m.area_m2, m.a_field_opt_m2);
     m.porosity_pct_rect = 100.0 * ratio(m.volume_m3, m.v_block_rect_m3);
@@ -133,8 +182,15 @@ nlohmann::json toJson(const Morphometry& m) {
         {"volume_m3", m.volume_m3},
         {"a_field_rect_m2", m.a_field_rect_m2},
         {"a_field_opt_m2", m.a_field_opt_m2},
+        {"a_field_hull_m2", m.a_field_hull_m2},
+        {"passage_spacing_m", m.passage_spacing_m},
+        {"field_margin_m", m.field_margin_m},
         {"v_block_rect_m3", m.v_block_rect_m3},
         {"v_block_opt_m3", m.v_block_opt_m3},
+        {"v_block_hull_m3", m.v_block_hull_m3},
+        {"network_density_hull", m.network_density_hull},
+        {"areal_coverage_pct_hull", m.areal_coverage_pct_hull},
+        {"porosity_pct_hull", m.porosity_pct_hull},
         {"network_density_opt", m.network_density_opt},
         {"network_density_rect", m.network_density_rect},
         {"areal_coverage_pct_opt", m.areal_coverage_pct_opt},
@@ -145,8 +201,53 @@ nlohmann::json toJson(const Morphometry& m) {
         {"vertical_range_m", m.vertical_range_m},
         {"cave_voxels", m.cave_voxels},
         {"plan_cells", m.plan_cells},
-        {"field_opt_method", "convex_hull"},
+        {"field_opt_method", "plan_margin_in_hull"},
     };
+}
+
+NearMarked nearMarked(const Skeleton& skeleton, const Grid3<std::uint8_t>& marked, double radius) {
+    validateSkeleton(skeleton);
+    const Dims d = marked.dims;
+    CAVESIM_CHECK(marked.data.size() == d.count(), "nearMarked: the grid's data does not match its dims");
+    CAVESIM_CHECK(radius >= 0 && std::isfinite(radius), "nearMarked: negative or non-finite radius");
+    NearMarked out;
+    out.radius_vox = radius;
+    const int r = int(std::floor(radius));
+    std::vector<Index3> stamp;
+    for (int dk = -r; dk <= r; ++dk)
+        for (int dj = -r; dj <= r; ++dj)
+            for (int di = -r; di <= r; ++di)
+                if (double(di * di + dj * dj + dk * dk) <= radius * radius) stamp.push_back({di, dj, dk});
+    std::vector<char> near(d.count(), 0);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                if (!marked.at(i, j, k)) continue;
+                for (const Index3& o : stamp)
+                    if (d.contains(i + o.i, j + o.j, k + o.k)) near[d.index(i + o.i, j + o.j, k + o.k)] = 1;
+            }
+    out.block_voxels = long(d.count());
+    for (char c : near) out.block_voxels_near += c;
+    if (out.block_voxels > 0) out.block_share = double(out.block_voxels_near) / double(out.block_voxels);
+    for (const auto& e : skeleton.edges) {
+        const SkeletonNode& a = skeleton.nodes[std::size_t(e[0])];
+        const SkeletonNode& b = skeleton.nodes[std::size_t(e[1])];
+        CAVESIM_CHECK(a.voxel < d.count() && b.voxel < d.count(), "nearMarked: a skeleton node lies outside the grid");
+        const double len = distance(a.position, b.position);
+        out.length_m += len;
+        out.length_near_m += 0.5 * len * (double(near[a.voxel]) + double(near[b.voxel]));
+    }
+    if (out.length_m > 0) out.centreline_share = out.length_near_m / out.length_m;
+    return out;
+}
+
+nlohmann::json toJson(const NearMarked& n) {
+    auto opt = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+    return {{"radius_vox", n.radius_vox},
+            {"centreline_share", opt(n.centreline_share)},
+            {"block_share", opt(n.block_share)},
+            {"length_near_m", n.length_near_m},
+            {"block_voxels_near", n.block_voxels_near}};
 }
 
 CategoryVotes categoryVotes(const Morphometry& m) {

@@ -12,12 +12,15 @@
 ///    end; W = area / length then exceeds the passage width by that much.
 ///  - volume = cave voxels · h³; vertical range = (k_max − k_min + 1) · h (cell faces).
 ///  - A_field rect: the plan's bounding rectangle, taken on cell edges.
-///  - A_field opt: the convex hull of the plan cells' corners (Boost.Geometry). Klimchouk's
-///    optimised field is a polygon drawn tight around the cave plan; the convex hull is the tightest
-///    polygon that needs no free parameter (a concave hull needs a length scale that would change
-///    the index from run to run and between caves), it is what Klimchouk's hand-drawn contour
-///    converges to for compact networks, and it never exceeds the rectangle.
-///  - V_block = A_field · vertical range; network density = length / A_field (m/m²);
+///  - A_field hull: the convex hull of the plan cells' corners (Boost.Geometry); never exceeds the
+///    rectangle.
+///  - A_field opt, Klimchouk's optimised field (a contour around the cave at half the mean passage
+///    spacing, instead of Worthington's rectangle): mean passage spacing S = A_field hull / length
+///    (parallel passages at spacing S have density 1/S), margin r = S / 2; the field is the cells of
+///    the plan's bounding box whose centre lies within r of the centre of a plan cell (exact
+///    Euclidean distance transform) and inside or on the hull. So plan ≤ opt ≤ hull ≤ rect; a
+///    margin under one cell gives the plan itself. Without a centreline (length 0) opt = hull.
+///  - V_block = A_field · vertical range (for each field); network density = length / A_field (m/m²);
 ///    areal coverage = 100 · area / A_field (%); porosity = 100 · volume / V_block (%);
 ///    W = area / length (m).
 /// An empty mask gives zeros everywhere; a ratio whose denominator is 0 is reported as 0.
@@ -25,6 +28,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -41,9 +45,16 @@ struct Morphometry {
     double area_m2 = 0.0;                  ///< plan area, m²
     double volume_m3 = 0.0;                ///< cave volume, m³
     double a_field_rect_m2 = 0.0;          ///< bounding rectangle of the plan, m²
-    double a_field_opt_m2 = 0.0;           ///< convex hull of the plan, m²
+    double a_field_opt_m2 = 0.0;           ///< Klimchouk's optimised field (plan + margin, within the hull), m²
+    double a_field_hull_m2 = 0.0;          ///< convex hull of the plan, m²
+    double passage_spacing_m = 0.0;        ///< mean passage spacing a_field_hull / length, m (0 without length)
+    double field_margin_m = 0.0;           ///< margin of the optimised field, passage_spacing / 2, m
     double v_block_rect_m3 = 0.0;          ///< a_field_rect · vertical range, m³
     double v_block_opt_m3 = 0.0;           ///< a_field_opt · vertical range, m³
+    double v_block_hull_m3 = 0.0;          ///< a_field_hull · vertical range, m³
+    double network_density_hull = 0.0;     ///< length / a_field_hull, m/m²
+    double areal_coverage_pct_hull = 0.0;  ///< 100 · area / a_field_hull, %
+    double porosity_pct_hull = 0.0;        ///< 100 · volume / v_block_hull, %
     double network_density_opt = 0.0;      ///< length / a_field_opt, m/m²
     double network_density_rect = 0.0;     ///< length / a_field_rect, m/m²
     double areal_coverage_pct_opt = 0.0;   ///< 100 · area / a_field_opt, %
@@ -65,8 +76,29 @@ struct Morphometry {
 Morphometry computeMorphometry(const Grid3<std::uint8_t>& mask, const Skeleton& skeleton, double voxelSize);
 
 /// The index keys (the member names above) plus "vertical_range_m", "cave_voxels", "plan_cells" and
-/// "field_opt_method" ("convex_hull").
+/// "field_opt_method" ("plan_margin_in_hull").
 nlohmann::json toJson(const Morphometry& m);
+
+/// How close the centreline and the block lie to a set of marked voxels (report.json
+/// `stage2.near_protochannels`, with the stage-1 protochannels marked).
+struct NearMarked {
+    double radius_vox = 0;                   ///< the distance, index units (voxel centre to voxel centre)
+    double length_m = 0;                     ///< skeleton length, m
+    double length_near_m = 0;                ///< of it, within the distance (see `nearMarked`), m
+    std::optional<double> centreline_share;  ///< length_near / length; empty without length
+    long block_voxels = 0;                   ///< voxels of the grid
+    long block_voxels_near = 0;              ///< of them, within the distance of a marked voxel
+    std::optional<double> block_share;       ///< block_voxels_near / block_voxels; empty for an empty grid
+};
+
+/// Share of the skeleton's length, and of the block's voxels, within `radius` voxels (Euclidean,
+/// voxel centre to voxel centre, index units) of a marked voxel (`marked` non-zero). Each edge's
+/// length is split half to each end node; a node is near when its voxel is.
+/// @throw cavesim::InternalError on an invalid skeleton, a node outside the grid or a negative radius
+NearMarked nearMarked(const Skeleton& skeleton, const Grid3<std::uint8_t>& marked, double radius);
+
+/// {"radius_vox", "centreline_share", "block_share", "length_near_m", "block_voxels_near"}.
+nlohmann::json toJson(const NearMarked& n);
 
 /// How many of the category's ranges (`categoryRanges`) hold the cave's value.
 struct CategoryVotes {

@@ -1,5 +1,6 @@
 /// @file network.cpp
-/// @brief Flow paths on the pressure-oriented skeleton, and the linkage events read off them.
+/// @brief Flow paths down the stage-2 pressure, mapped onto the skeleton, and the linkage events
+/// read off them.
 #include "morpho/network.h"
 
 #include <algorithm>
@@ -137,6 +138,82 @@ std::vector<int> shortestPath(const Skeleton& s, const Adjacency& adj, const std
     return {};
 }
 
+/// Nearest skeleton node of every cave voxel, through cave voxels (26-connected steps): a
+/// breadth-first search from all node voxels at once; at equal steps the lower node index wins.
+/// -1 for voxels no node reaches.
+std::vector<int> nearestNodes(const Skeleton& s, const Dims& d, const Grid3<std::uint8_t>& cave) {
+    std::vector<int> label(d.count(), -1);
+    std::vector<int> stepOf(d.count(), -1);
+    std::deque<std::size_t> queue;
+    for (std::size_t n = 0; n < s.nodes.size(); ++n) {
+        const std::size_t v = s.nodes[n].voxel;
+        if (label[v] >= 0) continue;  // two nodes on one voxel: the lower index
+        label[v] = int(n);
+        stepOf[v] = 0;
+        queue.push_back(v);
+    }
+    // FIFO order: every voxel of step t is labelled (its minimum over the voxels of step t − 1)
+    // before any of them spreads to step t + 1.
+    while (!queue.empty()) {
+        const std::size_t v = queue.front();
+        queue.pop_front();
+        const Index3 p = d.coord(v);
+        for (const auto& o : allNeighbours()) {
+            const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
+            if (!d.contains(i, j, k)) continue;
+            const std::size_t w = d.index(i, j, k);
+            if (!cave[w]) continue;
+            if (stepOf[w] < 0) {
+                stepOf[w] = stepOf[v] + 1;
+                label[w] = label[v];
+                queue.push_back(w);
+            } else if (stepOf[w] == stepOf[v] + 1 && label[v] < label[w]) {
+                label[w] = label[v];
+            }
+        }
+    }
+    return label;
+}
+
+/// The skeleton path along a voxel path: each voxel's nearest node, repeats dropped, two nodes
+/// that are not neighbours joined by the shortest skeleton path between them, and any node met
+/// twice cut back to its first visit (the path is simple). Empty when no voxel has a node or two
+/// consecutive nodes are not connected.
+std::vector<int> nodesAlong(const Skeleton& s, const Adjacency& adj, const std::vector<int>& nearest,
+                            const std::vector<std::size_t>& voxels) {
+    std::vector<int> walk;
+    std::vector<int> single(s.nodes.size(), -1);
+    const std::vector<double> flat(s.nodes.size(), 0.0);
+    for (std::size_t v : voxels) {
+        const int n = nearest[v];
+        if (n < 0 || (!walk.empty() && walk.back() == n)) continue;
+        if (!walk.empty()) {
+            const auto& next = adj.next[std::size_t(walk.back())];
+            if (!std::binary_search(next.begin(), next.end(), n)) {
+                single[std::size_t(n)] = 0;
+                const std::vector<int> gap = shortestPath(s, adj, flat, {walk.back()}, single, false);
+                single[std::size_t(n)] = -1;
+                if (gap.empty()) return {};
+                walk.insert(walk.end(), gap.begin() + 1, gap.end() - 1);
+            }
+        }
+        walk.push_back(n);
+    }
+    std::vector<int> path;
+    std::vector<int> at(s.nodes.size(), -1);  // position of a node on `path`
+    for (int n : walk) {
+        if (at[std::size_t(n)] >= 0) {
+            const std::size_t keep = std::size_t(at[std::size_t(n)]) + 1;
+            for (std::size_t t = keep; t < path.size(); ++t) at[std::size_t(path[t])] = -1;
+            path.resize(keep);
+            continue;
+        }
+        at[std::size_t(n)] = int(path.size());
+        path.push_back(n);
+    }
+    return path;
+}
+
 /// Troughs of the phreatic loops along an elevation profile: every descent followed by a rise of
 /// at least `rise` (index units). Returns the positions (in `z`) of the loop bottoms.
 std::vector<std::size_t> loopTroughs(const std::vector<double>& z, double rise) {
@@ -167,6 +244,43 @@ std::vector<std::size_t> loopTroughs(const std::vector<double>& z, double rise) 
 }
 
 }  // namespace
+
+Descent descendPressure(const Grid3<std::uint8_t>& cave, const Grid3<float>& pressure, std::size_t start,
+                        const std::vector<char>& exit) {
+    const Dims& d = cave.dims;
+    CAVESIM_CHECK(cave.data.size() == d.count() && pressure.dims == d && pressure.data.size() == d.count() &&
+                      exit.size() == d.count(),
+                  "descendPressure: cave, pressure and exit grids do not match");
+    CAVESIM_CHECK(start < d.count(), "descendPressure: start voxel " + std::to_string(start) + " outside the grid");
+    Descent out;
+    std::size_t v = start;
+    out.voxels.push_back(v);
+    while (!exit[v]) {
+        const Index3 p = d.coord(v);
+        const double pv = pressure[v];
+        double bestSlope = 0, bestP = 0;
+        std::size_t best = d.count();
+        for (const auto& o : allNeighbours()) {
+            const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
+            if (!d.contains(i, j, k)) continue;
+            const std::size_t w = d.index(i, j, k);
+            const double pw = pressure[w];
+            if (!cave[w] || !(pw < pv)) continue;
+            const double slope = (pv - pw) / o.length;
+            if (best == d.count() || slope > bestSlope ||
+                (slope == bestSlope && (pw < bestP || (pw == bestP && w < best)))) {
+                best = w;
+                bestSlope = slope;
+                bestP = pw;
+            }
+        }
+        if (best == d.count()) return out;  // a pit: no lower cave neighbour
+        v = best;
+        out.voxels.push_back(v);
+    }
+    out.reachedExit = true;
+    return out;
+}
 
 NetworkCounts analyseNetwork(const Skeleton& s, const NetworkInput& in, const NetworkOptions& opt) {
     const Dims& d = in.dims;
@@ -200,18 +314,80 @@ NetworkCounts analyseNetwork(const Skeleton& s, const NetworkInput& in, const Ne
         for (int n : attach(in.sinks[k], d, *in.cave, nodeAt, comp, opt.attachDistance))
             if (target[std::size_t(n)] < 0) target[std::size_t(n)] = int(k);
 
+    // Exits: cave voxels that are a sink voxel or touch one (sinks are not cave), with the lowest
+    // sink index they touch.
+    std::vector<char> exit;
+    std::vector<int> exitSink;
+    std::vector<int> nearest;
+    out.oriented = in.pressure != nullptr;
+    if (out.oriented) {
+        exit.assign(d.count(), 0);
+        exitSink.assign(d.count(), -1);
+        for (std::size_t k = 0; k < in.sinks.size(); ++k)
+            for (std::size_t v : in.sinks[k]) {
+                if (v >= d.count()) continue;
+                const Index3 p = d.coord(v);
+                auto mark = [&](std::size_t w) {
+                    if (!(*in.cave)[w]) return;
+                    exit[w] = 1;
+                    if (exitSink[w] < 0 || int(k) < exitSink[w]) exitSink[w] = int(k);
+                };
+                mark(v);
+                for (const auto& o : allNeighbours()) {
+                    const int i = p.i + o.di, j = p.j + o.dj, kk = p.k + o.dk;
+                    if (d.contains(i, j, kk)) mark(d.index(i, j, kk));
+                }
+            }
+        nearest = nearestNodes(s, d, *in.cave);
+    }
+
     // One flow path per source.
     for (std::size_t si = 0; si < in.sources.size(); ++si) {
         FlowPath& fp = out.paths[si];
-        const std::vector<int> from = attach(in.sources[si], d, *in.cave, nodeAt, comp, opt.attachDistance);
-        if (from.empty()) continue;
-        fp.nodes = shortestPath(s, adj, pressure, from, target, true);
-        if (fp.nodes.empty()) {
-            fp.nodes = shortestPath(s, adj, pressure, from, target, false);
-            fp.downhill = false;
+        if (out.oriented) {
+            // Start where the water leaves the source: the lowest-pressure cave voxel among the
+            // source's voxels and their 26 neighbours (ties: the lower index).
+            std::size_t start = d.count();
+            for (std::size_t v : in.sources[si]) {
+                if (v >= d.count()) continue;
+                const Index3 p = d.coord(v);
+                auto offer = [&](std::size_t w) {
+                    if (!(*in.cave)[w]) return;
+                    const float pw = (*in.pressure)[w];
+                    if (start == d.count() || pw < (*in.pressure)[start] || (pw == (*in.pressure)[start] && w < start))
+                        start = w;
+                };
+                offer(v);
+                for (const auto& o : allNeighbours()) {
+                    const int i = p.i + o.di, j = p.j + o.dj, k = p.k + o.dk;
+                    if (d.contains(i, j, k)) offer(d.index(i, j, k));
+                }
+            }
+            if (start < d.count()) {
+                Descent descent = descendPressure(*in.cave, *in.pressure, start, exit);
+                if (descent.reachedExit) {
+                    fp.nodes = nodesAlong(s, adj, nearest, descent.voxels);
+                    if (!fp.nodes.empty()) {
+                        fp.sink = exitSink[descent.voxels.back()];
+                        fp.voxels = std::move(descent.voxels);
+                    }
+                }
+            }
         }
-        if (fp.nodes.empty()) continue;
-        fp.sink = target[std::size_t(fp.nodes.back())];
+        if (fp.nodes.empty()) {
+            // Fallback: the shortest skeleton path between the attached nodes, downhill if possible.
+            const std::vector<int> from = attach(in.sources[si], d, *in.cave, nodeAt, comp, opt.attachDistance);
+            if (from.empty()) continue;
+            fp.nodes = shortestPath(s, adj, pressure, from, target, true);
+            if (fp.nodes.empty()) {
+                fp.nodes = shortestPath(s, adj, pressure, from, target, false);
+                fp.downhill = false;
+            }
+            if (fp.nodes.empty()) continue;
+            fp.sink = target[std::size_t(fp.nodes.back())];
+            fp.fallback = out.oriented;
+            if (fp.fallback) ++out.fallbackPaths;
+        }
         ++out.sourcesConnected;
         // Elevation in voxel units from the smoothed node positions (a voxel staircase at a junction
         // is not a rise); without a voxel size, the node's voxel row.
@@ -274,13 +450,22 @@ nlohmann::json toJson(const NetworkCounts& c, const Skeleton& s) {
                          {"sink", fp.sink ? nlohmann::json(*fp.sink) : nlohmann::json(nullptr)},
                          {"length_m", length},
                          {"downhill", fp.downhill},
+                         {"fallback", fp.fallback},
+                         {"descent_voxels", fp.voxels.size()},
                          {"loop_troughs_m", loops},
                          {"captured_by", fp.capturedBy ? nlohmann::json(*fp.capturedBy) : nlohmann::json(nullptr)},
                          {"join_m", fp.joinNode ? pos(*fp.joinNode) : nlohmann::json(nullptr)}});
     }
-    return {{"sources_total", c.sourcesTotal},   {"sources_connected", c.sourcesConnected},
-            {"confluences", c.confluences},      {"tributary_captures", c.tributaryCaptures},
-            {"phreatic_loops", c.phreaticLoops}, {"paths", paths}};
+    return {{"sources_total", c.sourcesTotal},
+            {"sources_connected", c.sourcesConnected},
+            {"confluences", c.confluences},
+            {"tributary_captures", c.tributaryCaptures},
+            {"phreatic_loops", c.phreaticLoops},
+            {"fallback_paths", c.fallbackPaths},
+            {"fallback_fraction", c.oriented && c.sourcesConnected > 0
+                                      ? nlohmann::json(double(c.fallbackPaths) / double(c.sourcesConnected))
+                                      : nlohmann::json(nullptr)},
+            {"paths", paths}};
 }
 
 }  // namespace cavesim::morpho

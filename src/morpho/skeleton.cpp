@@ -313,39 +313,6 @@ void thin(Padded& g) {
     }
 }
 
-// ------------------------------------------------------------------------------------------------
-// Exact squared Euclidean distance (voxel units) from each voxel centre to the nearest background
-// voxel centre: separable lower envelope of parabolas (Felzenszwalb & Huttenlocher 2012).
-// ------------------------------------------------------------------------------------------------
-void envelope1d(const double* f, int n, double* out, std::vector<int>& vtx, std::vector<double>& z) {
-    vtx.resize(std::size_t(n));
-    z.resize(std::size_t(n) + 1);
-    int k = 0;
-    vtx[0] = 0;
-    z[0] = -std::numeric_limits<double>::infinity();
-    z[1] = std::numeric_limits<double>::infinity();
-    auto meet = [&](int q, int p) {  // abscissa where the parabolas rooted at q and p intersect
-        return ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * (q - p));
-    };
-    for (int q = 1; q < n; ++q) {
-        double s = meet(q, vtx[std::size_t(k)]);
-        while (s <= z[std::size_t(k)]) {  // z[0] = −∞ stops this at k = 0
-            --k;
-            s = meet(q, vtx[std::size_t(k)]);
-        }
-        ++k;
-        vtx[std::size_t(k)] = q;
-        z[std::size_t(k)] = s;
-        z[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
-    }
-    k = 0;
-    for (int q = 0; q < n; ++q) {
-        while (z[std::size_t(k) + 1] < q) ++k;
-        const int p = vtx[std::size_t(k)];
-        out[q] = double(q - p) * double(q - p) + f[p];
-    }
-}
-
 /// Squared distances on the padded grid (0 on background), voxel units, to the nearest background
 /// voxel centre, ignoring axis `skipAxis` (−1: none). Stored as float: squared distances are
 /// integers, exact in float up to 2^24.
@@ -906,6 +873,35 @@ void validate(const Grid3<std::uint8_t>& mask) {
 }
 
 }  // namespace
+
+void envelope1d(const double* f, int n, double* out, std::vector<int>& vtx, std::vector<double>& z) {
+    vtx.resize(std::size_t(n));
+    z.resize(std::size_t(n) + 1);
+    int k = 0;
+    vtx[0] = 0;
+    z[0] = -std::numeric_limits<double>::infinity();
+    z[1] = std::numeric_limits<double>::infinity();
+    auto meet = [&](int q, int p) {  // abscissa where the parabolas rooted at q and p intersect
+        return ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * (q - p));
+    };
+    for (int q = 1; q < n; ++q) {
+        double s = meet(q, vtx[std::size_t(k)]);
+        while (s <= z[std::size_t(k)]) {  // z[0] = −∞ stops this at k = 0
+            --k;
+            s = meet(q, vtx[std::size_t(k)]);
+        }
+        ++k;
+        vtx[std::size_t(k)] = q;
+        z[std::size_t(k)] = s;
+        z[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
+    }
+    k = 0;
+    for (int q = 0; q < n; ++q) {
+        while (z[std::size_t(k) + 1] < q) ++k;
+        const int p = vtx[std::size_t(k)];
+        out[q] = double(q - p) * double(q - p) + f[p];
+    }
+}
 
 Grid3<std::uint8_t> thinToCurveSkeleton(const Grid3<std::uint8_t>& mask, bool fillCavities) {
     validate(mask);

@@ -68,11 +68,18 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "core/grid.h"
 #include "morpho/skeleton_graph.h"
 
 namespace cavesim::morpho {
+
+/// One line of the exact squared Euclidean distance transform (Felzenszwalb & Huttenlocher 2012):
+/// out[q] = min_p f[p] + (q − p)² for q in [0, n), n ≥ 1 (the lower envelope of the parabolas
+/// rooted at p). `vtx` and `z` are scratch, resized here. Run it along each axis in turn for the
+/// squared distance to the cells where f = 0 (f large elsewhere).
+void envelope1d(const double* f, int n, double* out, std::vector<int>& vtx, std::vector<double>& z);
 
 /// Settings of `skeletonize`.
 struct SkeletonOptions {

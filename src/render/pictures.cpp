@@ -7,6 +7,7 @@
 #include <map>
 
 #include "core/check.h"
+#include "core/vec3.h"
 #include "render/colormap.h"
 #include "render/png_io.h"
 #include "render/view.h"
@@ -210,8 +211,9 @@ Rgb fieldColour(const FieldStyle& s, double v, double lo, double hi) {
 }
 
 // One panel of a field: `slice` >= 0 draws that slice, -1 the maximum along the view axis.
-Image fieldPanel(const Domain& d, const Grid3<std::uint8_t>& mask, const Grid3<float>& field, const FieldStyle& style, View view, int slice, int width,
-                 const std::string& title, const std::string& subtitle, double lo, double hi, bool empty) {
+Image fieldPanel(const Domain& d, const Grid3<std::uint8_t>& mask, const Grid3<float>& field, const FieldStyle& style,
+                 View view, int slice, int width, const std::string& title, const std::string& subtitle, double lo,
+                 double hi, bool empty) {
     const Frame f = makeFrame(view, d.dims, d.voxelSize, width, 2);
     Image img = makeCanvas(f);
     const CellField cells = project(
@@ -227,8 +229,8 @@ Image fieldPanel(const Domain& d, const Grid3<std::uint8_t>& mask, const Grid3<f
     return img;
 }
 
-Image fieldImage(const Domain& d, const Grid3<std::uint8_t>& mask, const Grid3<float>& field, const FieldStyle& style, int width,
-                 const std::string& title) {
+Image fieldImage(const Domain& d, const Grid3<std::uint8_t>& mask, const Grid3<float>& field, const FieldStyle& style,
+                 int width, const std::string& title) {
     checkWidth(width);
     double maxValue = 0.0;
     if (field.data.size() == d.dims.count())
@@ -285,7 +287,8 @@ Image flowPicture(const Domain& domain, const Grid3<std::uint8_t>& mask, int wid
     return fieldImage(domain, mask, domain.flow, flowStyle(), width, "Stage 2: flow");
 }
 
-void writeFieldPictures(const Domain& domain, const Grid3<std::uint8_t>& mask, const std::string& imagesDir, int width) {
+void writeFieldPictures(const Domain& domain, const Grid3<std::uint8_t>& mask, const std::string& imagesDir,
+                        int width) {
     writePng(imagesDir + "/pressure.png", pressurePicture(domain, mask, width));
     writePng(imagesDir + "/flow.png", flowPicture(domain, mask, width));
 }
@@ -306,8 +309,8 @@ Image stateFrame(const Domain& d, const Grid3<std::uint8_t>& mask, const std::st
         for (float v : d.pressure.data) pmax = std::max(pmax, double(v));
         for (float v : d.flow.data) fmax = std::max(fmax, double(v));
         const FieldStyle ps = pressureStyle(), fs = flowStyle();
-        Image p = fieldPanel(d, mask, d.pressure, ps, View::kSideXZ, 0, width, title + ": pressure", "cave outlined", 0.0,
-                             pmax > 0 ? pmax : 1.0, !(pmax > 0));
+        Image p = fieldPanel(d, mask, d.pressure, ps, View::kSideXZ, 0, width, title + ": pressure", "cave outlined",
+                             0.0, pmax > 0 ? pmax : 1.0, !(pmax > 0));
         const double fhi = fmax > 0 ? fmax : 1.0;
         Image fl = fieldPanel(d, mask, d.flow, fs, View::kSideXZ, 0, width, title + ": flow", "cave outlined",
                               fhi * std::pow(10.0, -fs.decades), fhi, !(fmax > 0));
@@ -366,6 +369,73 @@ Image composeStrip(const std::vector<Image>& frames, int rows) {
         blit(out, frames[n], c * (cw + gap), r * (ch + gap));
     }
     return out;
+}
+
+}  // namespace cavesim::render
+
+namespace cavesim::render {
+
+Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const FractureNetwork& net, int width) {
+    checkWidth(width);
+    const int families = int(net.families.size());
+    const Frame f = makeFrame(View::kPlan, d.dims, d.voxelSize, width, 1 + families);
+    Image img = makeCanvas(f);
+    const Rgb caveShadow{95, 95, 105};
+    fillCells(img, f, [&](int u, int v) {
+        for (int k = 0; k < d.dims.nz; ++k)
+            if (mask.at(u, v, k)) return caveShadow;
+        return kRockLight;
+    });
+    const double h = d.voxelSize;
+    for (const FractureDisc& disc : net.discs) {
+        // Two unit vectors in the disc's plane.
+        const Vec3d& n = disc.normal;
+        Vec3d e1 = std::abs(n[2]) < 0.9 ? Vec3d{-n[1], n[0], 0.0} : Vec3d{0.0, -n[2], n[1]};
+        const double l1 = norm(e1);
+        for (double& c : e1) c /= l1;
+        const Vec3d e2 = cross(n, e1);
+        std::vector<std::pair<double, double>> rim;
+        constexpr int kSides = 36;
+        for (int s = 0; s < kSides; ++s) {
+            const double a = 2.0 * kPi * s / kSides;
+            Vec3d p{};
+            for (int ax = 0; ax < 3; ++ax)
+                p[ax] = (disc.centre[ax] + 0.5 + disc.radius * (std::cos(a) * e1[ax] + std::sin(a) * e2[ax])) * h;
+            const Camera::Projected q = f.camera.project(p);
+            rim.emplace_back(q.x, q.y);
+        }
+        const Rgb c = zoneColour(disc.family);
+        fillPolygon(img, rim, c, 0.12);
+        for (int s = 0; s < kSides; ++s) {
+            const auto& a = rim[std::size_t(s)];
+            const auto& b = rim[std::size_t((s + 1) % kSides)];
+            drawLine(img, a.first, a.second, b.first, b.second, mix(c, colours::kBlack, 0.25));
+        }
+    }
+    // The block's outside stays clean: repaint the margins the discs spilled into.
+    const Rgb white = colours::kWhite;
+    fillRect(img, 0, 0, img.width, f.vy, white);
+    fillRect(img, 0, f.vy + f.vh, img.width, f.footerY - (f.vy + f.vh), white);
+    fillRect(img, 0, f.vy, f.vx, f.vh, white);
+    fillRect(img, f.vx + f.vw, f.vy, img.width - (f.vx + f.vw), f.vh, white);
+    fillRect(img, 0, f.footerY, img.width, img.height - f.footerY, white);
+    long discs = long(net.discs.size());
+    finishPanel(img, f, d, "Fracture network (" + std::to_string(discs) + " discs)",
+                "plan: disc outlines projected, coloured by family; cave shadow in grey");
+    drawStandardLegend(img, f, {{LegendEntry::Kind::kSwatch, caveShadow, Marker::kCircle, "cave (plan shadow)"}});
+    for (int fam = 0; fam < families; ++fam) {
+        const FractureFamilyStats& st = net.families[std::size_t(fam)];
+        char text[160];
+        std::snprintf(text, sizeof text, "family %d: %ld discs, measured dip direction/dip %03.0f/%02.0f, kappa %.0f",
+                      fam + 1, st.count, st.meanDipDirection, st.meanDip, st.kappaEstimate);
+        drawLegend(img, f, 1 + fam, f.vx, {{LegendEntry::Kind::kSwatch, zoneColour(fam), Marker::kCircle, text}});
+    }
+    return img;
+}
+
+void writeFracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const FractureNetwork& net,
+                           const std::string& path, int width) {
+    writePng(path, fracturesPicture(d, mask, net, width));
 }
 
 }  // namespace cavesim::render

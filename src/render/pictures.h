@@ -14,6 +14,7 @@
 
 #include "render/image.h"
 #include "sim/domain.h"
+#include "sim/fractures.h"
 
 namespace cavesim::render {
 
@@ -51,5 +52,14 @@ Image composeStrip(const std::vector<Image>& frames, int rows);
 
 /// Stacks images top to bottom, each centred horizontally.
 Image stackVertically(const std::vector<Image>& images);
+
+/// images/fractures.png: the fracture network in plan, each disc's outline projected onto the
+/// horizontal plane (a steep disc is nearly its strike line) and lightly filled in its family's
+/// colour, over the plan shadow of the cave (`mask`), with the sources and sinks; the legend gives
+/// each family's disc count and measured mean dip direction / dip. Block metres, z up.
+Image fracturesPicture(const Domain& domain, const Grid3<std::uint8_t>& mask, const FractureNetwork& network,
+                       int width);
+void writeFracturesPicture(const Domain& domain, const Grid3<std::uint8_t>& mask, const FractureNetwork& network,
+                           const std::string& path, int width);
 
 }  // namespace cavesim::render

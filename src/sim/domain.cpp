@@ -5,7 +5,9 @@
 
 #include "core/error.h"
 #include "core/vec3.h"
+#include "sim/fractures.h"
 #include "sim/noise.h"
+#include "sim/recharge.h"
 
 namespace cavesim {
 namespace {
@@ -34,6 +36,9 @@ void applySite(Domain& dom, const Scenario& s, const SiteData& site) {
     const Dims& d = dom.dims;
     if (site.nx != d.nx || site.ny != d.ny) throw InputError(s.path + ": the site data is not on the block's columns");
     const double h = s.voxelSize, z0 = s.site.origin[2];
+    // World elevation → index units: voxel k's centre is at z0 + (k + 0.5) · h.
+    dom.siteWaterTable.clear();
+    for (double z : site.waterTable) dom.siteWaterTable.push_back((z - z0) / h - 0.5);
     for (int j = 0; j < d.ny; ++j)
         for (int i = 0; i < d.nx; ++i) {
             const std::size_t col = std::size_t(i) + std::size_t(d.nx) * std::size_t(j);
@@ -63,6 +68,7 @@ Domain emptyDomain(const Dims& dims, double voxelSize, float porosity) {
     dom.voxelSize = voxelSize;
     dom.porosity = Grid3<float>(dims, porosity);
     dom.porosity0 = dom.porosity;
+    dom.rockPorosity = porosity;
     dom.flags = Grid3<std::uint8_t>(dims, 0);
     dom.zone = Grid3<std::int32_t>(dims, -1);
     dom.pressure = Grid3<float>(dims, 0.f);
@@ -86,6 +92,7 @@ void placeTerminals(Domain& dom, const Scenario& s) {
         }
     };
     place(s.sources, s.sinks);
+    if (!s.recharge.empty()) place(rechargeSources(s), {});
     if (s.siteData) place(s.siteData->sources, s.siteData->sinks);
 }
 
@@ -121,7 +128,15 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
                 }
     }
 
-    for (const PlaneFeature& p : s.planes) {
+    // Bedding planes and fractures, then inception horizons: the same slabs; a horizon's voxels are
+    // also marked for stage 2's early-flow rate.
+    if (!s.inceptionHorizons.empty() || !s.fractureFamilies.empty()) dom.inception = Grid3<std::uint8_t>(d, 0);
+    std::vector<const PlaneFeature*> slabs;
+    for (const PlaneFeature& p : s.planes) slabs.push_back(&p);
+    for (const PlaneFeature& p : s.inceptionHorizons) slabs.push_back(&p);
+    for (std::size_t slab = 0; slab < slabs.size(); ++slab) {
+        const PlaneFeature& p = *slabs[slab];
+        const bool inception = slab >= s.planes.size();
         const double nlen = norm(p.normal);
         const Vec3d n{p.normal[0] / nlen, p.normal[1] / nlen, p.normal[2] / nlen};
         for (int k = 0; k < d.nz; ++k)
@@ -137,8 +152,14 @@ Domain buildDomain(const Scenario& s, Rng& rng) {
                     float& R = dom.porosity.at(i, j, k);
                     R = std::max(R, float(p.porosity));
                     dom.flags.at(i, j, k) |= kFracture;
+                    if (inception) dom.inception.at(i, j, k) = 1;
                 }
     }
+
+    // Fracture families: discs from their own seeded streams (the run's engine is not drawn from);
+    // their slabs are early-flow paths like inception horizons (marked in `dom.inception`).
+    if (!s.fractureFamilies.empty())
+        applyFractureNetwork(dom, generateFractureNetwork(s.fractureFamilies, d, s.seed), s.fractureFamilies);
 
     for (const ChannelFeature& c : s.channels) {
         // A polyline of at least the voxels it passes through (radius 0.5 catches the centre line).

@@ -46,11 +46,19 @@ struct Domain {
     Grid3<float> pressure;     ///< stage 2
     Grid3<float> water;        ///< stage 2 contents W in [0, R]
     Grid3<float> flow;         ///< stage 2 flow f of the last iteration
+    /// 1 on an inception horizon ([[rock.inception_horizon]]) or a fracture of a family
+    /// ([[rock.fracture_family]]), else 0; empty without either: early-flow paths. Stage 2
+    /// reads such a voxel's pressure rate from its porosity against `rockPorosity` (stage2.h).
+    Grid3<std::uint8_t> inception;
+    float rockPorosity = 0.f;  ///< the background porosity `[rock] porosity`
 
     /// Linear voxel indices of each source / sink, in scenario order.
     std::vector<std::vector<std::size_t>> sourceVoxels;
     std::vector<double> sourcePressure;  ///< relative pressure of each source
     std::vector<std::vector<std::size_t>> sinkVoxels;
+    /// A site's water table (`[site] water_table`): per column i + nx · j, the table's height z in
+    /// voxel index units (voxel centres at integer k); empty without one.
+    std::vector<double> siteWaterTable;
 };
 
 /// A domain of `dims` voxels of `voxelSize` metres, uniform porosity (porosity0 the same), no
@@ -63,7 +71,8 @@ Domain emptyDomain(const Dims& dims, double voxelSize, float porosity);
 Domain buildDomain(const Scenario& scenario, Rng& rng);
 
 /// Sets the sources and sinks of `scenario` in `domain`: their voxels (boxes clipped to the
-/// grid), the sources' relative pressures and the kSource / kSink flags. Part of `buildDomain`;
+/// grid), the sources' relative pressures and the kSource / kSink flags. Sources in order: the
+/// `[[source]]` entries, the recharge's (sim/recharge.h), a site's sinkholes. Part of `buildDomain`;
 /// also recovers the terminals of a run from its scenario when its grids are read back.
 void placeTerminals(Domain& domain, const Scenario& scenario);
 

@@ -90,6 +90,9 @@ struct Stage1Options {
     double protochannelPorosity = 0.35;  ///< porosity shown along protochannels after stage 1
     double capacityExponent = 1.0;       ///< edge capacity = min(porosity)^exponent
     long maxGraphVoxels = 4000000;       ///< zones larger than this are refused (memory)
+    /// Voxels of a flow network at most: a larger zone's network is its `networkVoxels` voxels
+    /// the zone's front reached first (stage1.h, "Neighbourhood").
+    long networkVoxels = 1000000;
     /// Grid faces that count as zone boundary (protosinks there), each at most once, in the order
     /// given; empty = only the boundaries between zones. Default: all but the top (+z), the
     /// recharge side from which the sources are fed.
@@ -101,6 +104,33 @@ struct Stage1Options {
     /// voxels: no protochannel within this Chebyshev distance of a sink voxel (the rock stage 1
     /// leaves between protochannels and sinks)
     int sinkGap = 2;
+};
+
+/// The water table of stage 2 (docs/model.md, "Water table and gravity"): a plane in voxel (index)
+/// units. Voxels whose centre lies above it are vadose: their water is not pressurised and moves
+/// down under gravity; below it the paper's pressure model holds (phreatic).
+struct Hydrology {
+    /// voxels: height (z index) of the table above the block's centre column; −1 = none (every
+    /// voxel phreatic, the paper's model)
+    double waterTable = -1.0;
+    double dip = 0.0;           ///< degrees: the table's dip (0 = level)
+    double dipDirection = 0.0;  ///< degrees clockwise from +y: the direction the table falls towards
+    /// fraction of the field pressure added to a vadose voxel's gravitational potential: how strongly
+    /// vadose water drifts towards the sinks along a floor (0 = straight down only)
+    double lateral = 0.1;
+    /// the table is `[site] water_table` (sampled on the block's columns) instead of a plane
+    bool fromSite = false;
+    int line = 0;  ///< line of the `[hydrology]` table in the scenario file (for messages)
+};
+
+/// One base-level phase of stage 2 (`[[phase]]`): iterations run with its own water table and
+/// active terminals, phases in file order.
+struct Stage2Phase {
+    int iterations = 0;        ///< iterations of the phase (at least 1)
+    double waterTable = -1.0;  ///< voxels: the table's height at the centre column; −1 = `[hydrology]`'s
+    std::vector<int> sinks;    ///< 1-based `[[sink]]` indices active in the phase; empty = all
+    std::vector<int> sources;  ///< 1-based `[[source]]` indices active in the phase; empty = all
+    int line = 0;              ///< line in the scenario file (for messages)
 };
 
 /// Stage 2 (stage2.h): pressure front, water transport, blending, erosion.
@@ -124,6 +154,9 @@ struct Stage2Options {
     RateRule rateRule = RateRule::kPorosity;
     SourceInflow inflow = SourceInflow::kHead;
     std::vector<int> snapshots;  ///< iterations at which pictures are taken, at most 32
+    Hydrology hydrology;         ///< `[hydrology]`: the water table (none by default)
+    /// `[[phase]]`: base-level phases run in order; when given, their iterations replace `iterations`
+    std::vector<Stage2Phase> phases;
 };
 
 /// Speleothems (src/speleo/speleothems.h): stalactites grown on the drained cave's ceiling by
@@ -138,7 +171,7 @@ struct SpeleothemOptions {
     double voxelSize = 0.1;          ///< edge of the decoration level set's voxels, metres
     double convexity = 2.0;          ///< least mean curvature of a stalactite's surface, 1/m
     double minSize = 0.2;            ///< least horizontal radius of a convex ceiling patch, metres
-    double tipRadius = 0.0;          ///< radius of the fitted tip, metres; 0 = two voxels
+    double tipRadius = 0.0;          ///< tip radius ε, metres; 0 = two voxels
     double roughness = 0.15;         ///< amplitude of the ceiling relief added before growth, metres
     double roughnessScale = 1.0;     ///< feature size of that relief, metres
     double dripVariability = 0.3;    ///< relative spread of α between drip sites

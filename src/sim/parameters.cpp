@@ -32,6 +32,10 @@ struct P : Param {
         example = std::move(ex);
         return std::move(*this);
     }
+    P&& isNonZero() && {
+        nonZero = true;
+        return std::move(*this);
+    }
     P&& items(std::size_t lo, std::size_t hi) && {
         minItems = lo;
         maxItems = hi;
@@ -254,6 +258,27 @@ ParamSection tableArray(const char* path, std::vector<R> Scenario::*v, std::size
     return s;
 }
 
+/// A table of arrays whose records are the elements of the vector `of` returns (one inside a stage's options).
+template <typename R>
+ParamSection tableArrayOf(const char* path, std::vector<R>* (*of)(Scenario&), std::size_t maxEntries,
+                          const char* heading, std::vector<P> params) {
+    ParamSection s;
+    s.path = path;
+    s.isArray = true;
+    s.maxEntries = maxEntries;
+    s.heading = heading;
+    s.params.assign(params.begin(), params.end());
+    s.count = [of](const Scenario& sc) { return of(const_cast<Scenario&>(sc))->size(); };
+    s.record = [of](const Scenario& sc, std::size_t i) -> const void* { return &(*of(const_cast<Scenario&>(sc)))[i]; };
+    s.mutableRecord = [of](Scenario& sc, std::size_t i) -> void* { return &(*of(sc))[i]; };
+    s.append = [of](Scenario& sc) -> void* { return &of(sc)->emplace_back(); };
+    s.defaults = []() -> const void* {
+        static const R d{};
+        return &d;
+    };
+    return s;
+}
+
 Scenario* top(Scenario& s) {
     return &s;
 }
@@ -272,6 +297,12 @@ Stage1Options* stage1(Scenario& s) {
 Stage2Options* stage2(Scenario& s) {
     return &s.stage2;
 }
+Hydrology* hydrology(Scenario& s) {
+    return &s.stage2.hydrology;
+}
+std::vector<Stage2Phase>* phases(Scenario& s) {
+    return &s.stage2.phases;
+}
 OutputOptions* output(Scenario& s) {
     return &s.output;
 }
@@ -280,6 +311,24 @@ SiteSettings* site(Scenario& s) {
 }
 SpeleothemOptions* speleothems(Scenario& s) {
     return &s.speleothems;
+}
+
+/// The fields of a slab of raised porosity around a plane ([[rock.plane]], [[rock.inception_horizon]]);
+/// `what` names the plane in the descriptions of `point` and `thickness`.
+std::vector<P> planeSlabParams(const std::string& what, const char* normalDoc, const char* porosityDoc) {
+    return {
+        real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), ("a point on the " + what).c_str())
+            .unitIs("voxels")
+            .isRequired("[30.0, 30.0, 10.0]"),
+        real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), normalDoc)
+            .rangeShown("each [-10⁶, 10⁶], non-zero")
+            .isNonZero(),
+        real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), ("slab thickness across the " + what).c_str())
+            .unitIs("voxels"),
+        real("porosity", &PlaneFeature::porosity, rng(0, 1), porosityDoc),
+        real("extent", &PlaneFeature::extent, rng(0, 1e6), "in-plane radius around `point`; 0 = unbounded")
+            .unitIs("voxels"),
+    };
 }
 
 std::vector<ParamSection> makeRegistry() {
@@ -295,6 +344,7 @@ std::vector<ParamSection> makeRegistry() {
     using RR = RateRule;
     using SI = SourceInflow;
     using PK = PlaneKind;
+    using RK = RechargeKind;
     std::vector<ParamSection> r;
 
     ParamSection& topLevel = r.emplace_back(table<Scenario>(
@@ -369,23 +419,13 @@ std::vector<ParamSection> makeRegistry() {
                    }));
     sphere.prose = "At most 4096 spheres.";
 
-    ParamSection& plane = r.emplace_back(tableArray(
-        "rock.plane", &Scenario::planes, 1024, "bedding planes and fractures",
-        {
-            real3("point", &PlaneFeature::point, rng(-1, 1, "[]", true), "a point on the plane")
-                .unitIs("voxels")
-                .isRequired("[30.0, 30.0, 10.0]"),
-            real3("normal", &PlaneFeature::normal, rng(-1e6, 1e6), "plane normal (need not be unit length)")
-                .rangeShown("each [-10⁶, 10⁶], non-zero"),
-            real("thickness", &PlaneFeature::thickness, rng(0, 1e6, "(]"), "slab thickness across the plane")
-                .unitIs("voxels"),
-            real("porosity", &PlaneFeature::porosity, rng(0, 1),
-                 "porosity inside the slab (the larger of this and the rock's)"),
-            real("extent", &PlaneFeature::extent, rng(0, 1e6), "in-plane radius around `point`; 0 = unbounded")
-                .unitIs("voxels"),
-            choice("kind", &PlaneFeature::kind, {{"bedding", int(PK::kBedding)}, {"fracture", int(PK::kFracture)}},
-                   "both set the fracture flag; the name is kept in the report"),
-        }));
+    std::vector<P> planeParams = planeSlabParams("plane", "plane normal (need not be unit length)",
+                                                 "porosity inside the slab (the larger of this and the rock's)");
+    planeParams.push_back(choice("kind", &PlaneFeature::kind,
+                                 {{"bedding", int(PK::kBedding)}, {"fracture", int(PK::kFracture)}},
+                                 "both set the fracture flag; the name is kept in the report"));
+    ParamSection& plane = r.emplace_back(
+        tableArray("rock.plane", &Scenario::planes, 1024, "bedding planes and fractures", std::move(planeParams)));
     plane.prose = "A slab of raised porosity around a plane of any orientation. At most 1024 planes.";
 
     ParamSection& channel = r.emplace_back(tableArray(
@@ -407,6 +447,51 @@ std::vector<ParamSection> makeRegistry() {
                     "(stage-2-only runs, paper Figures 8 and 9)"),
         }));
     channel.prose = "At most 1024 channels with at most 65 536 points together.";
+
+    ParamSection& inception = r.emplace_back(tableArray(
+        "rock.inception_horizon", &Scenario::inceptionHorizons, 64, "inception horizons: bedding planes of early flow",
+        planeSlabParams("horizon", "normal of the horizon (need not be unit length)",
+                        "porosity inside the slab (the larger of this and the rock's): stage-1 capacity and zone "
+                        "speed follow it")));
+    inception.prose =
+        "A bedding plane that is an inception horizon (Lowe 1992; KarstNSim): a slab like `[[rock.plane]]`\n"
+        "whose voxels also carry early flow in stage 2. Stage 1 sees its porosity (a higher edge capacity and\n"
+        "a faster zone front); in stage 2 the pressure rate of a horizon voxel that is not yet channel is read\n"
+        "from its porosity against the rock's, by the rule stage-1 protochannels follow with the rock's\n"
+        "porosity in place of the voxel's initial one (docs/geology.md). At most 64.";
+
+    ParamSection& family = r.emplace_back(tableArray(
+        "rock.fracture_family", &Scenario::fractureFamilies, 16, "fracture families: a discrete fracture network",
+        {
+            real("dip_direction", &FractureFamily::dipDirection, rng(0, 360, "[)"),
+                 "azimuth of the mean plane's dip, clockwise from north (+y; +x is east)")
+                .unitIs("degrees"),
+            real("dip", &FractureFamily::dip, rng(0, 90), "mean plane's dip below the horizontal").unitIs("degrees"),
+            real("kappa", &FractureFamily::kappa, rng(0, 1e6, "(]"),
+                 "Fisher concentration of the poles about the mean pole (larger = tighter; 20 ≈ 18° spread)"),
+            real("spacing", &FractureFamily::spacing, rng(0, 1e6),
+                 "mean spacing along the mean pole: P32 = 1 / spacing; 0 = give `density`")
+                .unitIs("voxels"),
+            real("density", &FractureFamily::density, rng(0, 1), "fractures per unit volume (P30); 0 = give `spacing`")
+                .unitIs("1/voxel³"),
+            real("length_exponent", &FractureFamily::lengthExponent, rng(0, 10, "(]"),
+                 "a of the power-law density of disc diameters, p(l) ∝ l^−a on [min_length, max_length]"),
+            real("min_length", &FractureFamily::minLength, rng(0, 1e6, "(]"), "least disc diameter").unitIs("voxels"),
+            real("max_length", &FractureFamily::maxLength, rng(0, 1e6, "(]"), "largest disc diameter").unitIs("voxels"),
+            real("aperture", &FractureFamily::aperture, rng(0, 1e6, "(]"), "slab thickness across each disc")
+                .unitIs("voxels"),
+            real("porosity", &FractureFamily::porosity, rng(0, 1),
+                 "porosity inside the slab (the larger of this and the rock's)"),
+        }));
+    family.prose =
+        "Discs drawn from `seed` (each family its own random stream): centres uniform in the block, poles\n"
+        "from a Fisher distribution about the mean pole, diameters from a truncated power law. Their number\n"
+        "is round(V / (spacing · E[disc area])) or round(density · V), V = nx · ny · nz. A family that cannot\n"
+        "fit — min_length above max_length or above the block's longest side, a spacing above it, no disc\n"
+        "at all, more than 10⁶ discs, both or neither of spacing and density — is an error. At most 16.\n"
+        "report.json `fracture_network` gives each family's count, measured mean orientation, estimated\n"
+        "kappa and P32; `images/fractures.png` draws the traces (docs/geology.md).";
+    family.setLine = [](void* r, int line) { static_cast<FractureFamily*>(r)->line = line; };
 
     ParamSection& source = r.emplace_back(tableArray(
         "source", &Scenario::sources, 256, "",
@@ -450,6 +535,42 @@ std::vector<ParamSection> makeRegistry() {
     sink.limitReason = "one [[sink]] may be a box of many voxels";
     sink.setLine = [](void* r, int line) { static_cast<SinkSpec*>(r)->line = line; };
 
+    ParamSection& recharge = r.emplace_back(tableArray(
+        "recharge", &Scenario::recharge, 64, "sinkholes, diffuse recharge, sinking streams",
+        {
+            choice("kind", &RechargeSpec::kind,
+                   {{"sinkholes", int(RK::kSinkholes)}, {"diffuse", int(RK::kDiffuse)}, {"stream", int(RK::kStream)}},
+                   "`count` sinkholes drawn from `seed` in `area`; a diffuse input per `spacing` cell of `area`; "
+                   "inputs every `spacing` voxels along `points`"),
+            intList("area", &RechargeSpec::area, rng(0, 1023),
+                    "sinkholes, diffuse: `[x0, y0, x1, y1]`, inclusive voxel columns of the top face; `[]` = all")
+                .unitIs("voxels")
+                .items(0, 4)
+                .shape("[] or [x0, y0, x1, y1]")
+                .rangeShown("[] or 4 column indices inside the top face, x0 ≤ x1, y0 ≤ y1"),
+            integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many"),
+            integer("radius", &RechargeSpec::radius, rng(0, 64),
+                    "sinkholes: each is a (2r+1)² × (r+1) box under the top face, at least 2r+1 apart")
+                .unitIs("voxels"),
+            real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
+                .unitIs("voxels"),
+            real("pressure", &RechargeSpec::pressure, rng(0, 1e6, "(]"),
+                 "sinkholes: each one's `[[source]] pressure`; diffuse, stream: the total, shared equally")
+                .unitIs("relative"),
+            real3List("points", &RechargeSpec::points, rng(-1, 1, "[]", true),
+                      "stream: the polyline, inside the block (z = nz − 1 is the land surface)")
+                .unitIs("voxels")
+                .items(0, 1024)
+                .shape("an array of points [x, y, z]")
+                .rangeShown("stream: 2–1024 points inside the block; otherwise `[]`"),
+        }));
+    recharge.prose =
+        "Recharge expands into ordinary sources in the block's top layer (the land surface), after the\n"
+        "`[[source]]` entries and before a site's sinkholes; everything downstream sees sources. Together with\n"
+        "the `[[source]]` entries at most 256 sources. Recharge outside the top face, sinkholes that do not\n"
+        "fit in their area, or an input on a sink is an error (docs/geology.md).";
+    recharge.setLine = [](void* r, int line) { static_cast<RechargeSpec*>(r)->line = line; };
+
     const std::vector<ParamChoice> faces{{"-x", int(GF::kMinusX)}, {"+x", int(GF::kPlusX)},  {"-y", int(GF::kMinusY)},
                                          {"+y", int(GF::kPlusY)},  {"-z", int(GF::kMinusZ)}, {"+z", int(GF::kPlusZ)}};
     ParamSection& s1 = r.emplace_back(table<Stage1Options>(
@@ -484,8 +605,13 @@ std::vector<ParamSection> makeRegistry() {
                  "flow-network edge capacity = (smaller porosity of the two voxels)^exponent / edge length (1, √2 or "
                  "√3: the 26 neighbours); its resistance is 1 / capacity"),
             integer("max_graph_voxels", &Stage1Options::maxGraphVoxels, rng(1, 1e9),
-                    "a larger zone is refused with an error before any network is built (a network needs about 1,700 "
-                    "bytes per voxel)")
+                    "a zone whose flow network would be larger (the zone, or its `network_voxels` nearest voxels) is "
+                    "refused with an error before any network is built")
+                .unitIs("voxels"),
+            integer("network_voxels", &Stage1Options::networkVoxels, rng(1, 1e9),
+                    "a larger zone's flow network is limited to the neighbourhood of its source: the zone's this many "
+                    "voxels its front reached first (an iso-arrival-time ball around the source; its edge drains like "
+                    "the zone's boundary). Bounds stage 1's memory (about 1,450 bytes per network voxel) and time")
                 .unitIs("voxels"),
             choiceList("boundary_faces", &Stage1Options::boundaryFaces, faces, "grid faces",
                        "faces of the block that count as zone boundary (protosinks there), besides the boundaries "
@@ -578,6 +704,68 @@ std::vector<ParamSection> makeRegistry() {
                 .rangeShown("at most 32 entries, 0–10⁶ each"),
         }));
 
+    ParamSection& hydro = r.emplace_back(table<Hydrology>(
+        "hydrology", hydrology, "water table: vadose and phreatic zones (docs/model.md)",
+        {
+            real("water_table", &Hydrology::waterTable, rng(-1, 1e6),
+                 "height (z, voxel index units) of the water table at the block's centre column; voxels whose "
+                 "centre lies above it are vadose (water moves down under gravity), the rest phreatic (the paper's "
+                 "pressure model); −1 = no water table. Otherwise at most nz − 1")
+                .unitIs("voxels")
+                .defaultShown("-1 (none)")
+                .rangeShown("-1, or 0 – nz − 1"),
+            real("dip", &Hydrology::dip, rng(0, 89), "dip of the water table (0 = level)").unitIs("degrees"),
+            real("dip_direction", &Hydrology::dipDirection, rng(0, 360, "[)"),
+                 "direction the table falls towards, clockwise from +y")
+                .unitIs("degrees"),
+            real("vadose_lateral", &Hydrology::lateral, rng(0, 1, "[)"),
+                 "fraction of the field pressure added to a vadose voxel's gravitational potential: how strongly "
+                 "vadose water drifts towards the sinks along a passage floor (0 = straight down only); below 1, "
+                 "so down is always downhill"),
+            boolean("from_site", &Hydrology::fromSite,
+                    "the water table is the surface of `[site] water_table` (needs it; then leave `water_table`, "
+                    "`dip` and `dip_direction` at their defaults); a phase's `water_table` still replaces it by a "
+                    "level for that phase"),
+        }));
+    hydro.omitAtDefaults = true;
+    hydro.setLine = [](void* r, int line) { static_cast<Hydrology*>(r)->line = line; };
+    hydro.prose =
+        "A water table divides the block into a vadose zone above it, where water is not pressurised and\n"
+        "moves down under gravity (shafts and canyons), and a phreatic zone below, where the paper's\n"
+        "pressure model holds. Without it (the default) stage 2 is the paper's model unchanged.";
+
+    ParamSection& phase = r.emplace_back(tableArrayOf(
+        "phase", phases, 64, "base-level phases",
+        {
+            integer("iterations", &Stage2Phase::iterations, rng(1, 1e6), "stage-2 iterations of this phase")
+                .unitIs("iterations")
+                .isRequired("100"),
+            real("water_table", &Stage2Phase::waterTable, rng(-1, 1e6),
+                 "the water table's height at the centre column during this phase (as `[hydrology] water_table`); "
+                 "−1 = `[hydrology] water_table`")
+                .unitIs("voxels")
+                .defaultShown("-1 ([hydrology])")
+                .rangeShown("-1, or 0 – nz − 1"),
+            intList("sinks", &Stage2Phase::sinks, rng(1, 256),
+                    "the `[[sink]]` entries (1-based, in file order) that drain during this phase; empty = all")
+                .items(0, 256)
+                .shape("an array of sink numbers")
+                .rangeShown("1 – number of sinks"),
+            intList("sources", &Stage2Phase::sources, rng(1, 256),
+                    "the `[[source]]` entries (1-based, in file order) that inject during this phase; empty = all")
+                .items(0, 256)
+                .shape("an array of source numbers")
+                .rangeShown("1 – number of sources"),
+        }));
+    phase.prose =
+        "Base-level phases run in file order in stage 2, each with its own water table and active sinks\n"
+        "and sources; when given, their iterations replace `[stage2] iterations`. A falling water table\n"
+        "leaves the passages of an earlier phase vadose (or dry) and grows a lower level. At most 64.";
+    phase.setLine = [](void* r, int line) { static_cast<Stage2Phase*>(r)->line = line; };
+    phase.exampleCommented = true;
+    phase.nonEmpty = true;
+    phase.exampleNote = "optional: phases replace [stage2] iterations; remove the '# '";
+
     r.push_back(table<OutputOptions>(
         "output", output, "",
         {
@@ -631,7 +819,8 @@ std::vector<ParamSection> makeRegistry() {
             path("base_of_limestone", &SiteSettings::baseOfLimestone,
                  "surface (GeoTIFF, or XYZ points `x y z` per line): voxels whose centre lies below it are insoluble"),
             path("water_table", &SiteSettings::waterTable,
-                 "surface (GeoTIFF or XYZ points): read, checked and kept with the site (report); does not yet "
+                 "surface (GeoTIFF or XYZ points): read, checked and kept with the site (report); the water table of "
+                 "stage 2 with `[hydrology] from_site = true`, else it does not "
                  "change the simulation"),
             real("sinkhole_pressure", &SiteSettings::sinkholePressure, rng(0, 1e6, "(]"),
                  "pressure of a sinkhole whose CSV row gives none (as [[source]] `pressure`)")
@@ -699,8 +888,8 @@ std::vector<ParamSection> makeRegistry() {
                  "least horizontal radius of a convex ceiling patch around its lowest point for it to grow")
                 .unitIs("m"),
             real("tip_radius", &SpeleothemOptions::tipRadius, rng(0, 10),
-                 "radius around a stalactite's axis inside which the tip is fitted (moved down with the ring "
-                 "around it) instead of the singular law; 0 = two voxels")
+                 "radius ε around a stalactite's axis inside which the tip translates down at Short's tip speed "
+                 "α·l_Q instead of the singular law; outside, r·sin θ is floored at it; 0 = two voxels")
                 .unitIs("m")
                 .defaultShown("0 (2 voxels)"),
             real("roughness", &SpeleothemOptions::roughness, rng(0, 10),
@@ -925,7 +1114,10 @@ std::string exampleScenarioToml() {
         const std::string off = s.exampleCommented ? "# " : "";
         if (!s.path.empty())
             out << off << s.header() << (s.isArray ? "  # one entry of possibly many" : "")
-                << (s.exampleCommented ? " (it needs its files: remove the '# ')" : "") << "\n";
+                << (!s.exampleCommented     ? ""
+                    : s.exampleNote.empty() ? " (it needs its files: remove the '# ')"
+                                            : " (" + s.exampleNote + ")")
+                << "\n";
         for (const Param& p : s.params) {
             out << "# " << p.description << " (unit: " << p.unit << "; range: " << rangeText(p) << ")\n";
             if (p.type == ParamType::kVoxelBox) {

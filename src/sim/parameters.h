@@ -66,6 +66,7 @@ struct Param {
     std::string description;  ///< one line
     std::vector<ParamChoice> choices;
     bool required = false;
+    bool nonZero = false;                    ///< a vector: the zero vector is refused ("must not be zero")
     std::size_t minItems = 0, maxItems = 0;  ///< lists: bounds on the number of elements (0 = none)
     std::string shapeText;                   ///< lists and names: what the value must be, for messages ("must be …")
     std::string example;                     ///< TOML value used by the example scenario for a required key
@@ -82,6 +83,11 @@ struct ParamSection {
     std::string path;            ///< dotted table path; "" for the top level
     bool isArray = false;        ///< a table of arrays ([[path]]): records of a vector
     std::size_t maxEntries = 0;  ///< table of arrays: at most this many entries
+    /// A plain table left out of the effective scenario when every key holds its default (a table
+    /// added later, so scenarios without it write the same text as before).
+    bool omitAtDefaults = false;
+    /// A table of arrays that, when written, must have at least one entry (`phase = []` is refused).
+    bool nonEmpty = false;
     /// When set, the entry limit is checked entry by entry and the message gives this reason.
     std::string limitReason;
     std::string heading;  ///< reference heading after the table name
@@ -90,6 +96,8 @@ struct ParamSection {
     /// The example scenario shows this section commented out (its entries name files that the
     /// example does not ship).
     bool exampleCommented = false;
+    /// Why it is commented out (shown after the header); empty = it needs files the example lacks.
+    std::string exampleNote;
     std::vector<Param> params;
     /// The records: one for a table, the vector's elements for a table of arrays.
     std::function<std::size_t(const Scenario&)> count;
@@ -97,7 +105,7 @@ struct ParamSection {
     std::function<void*(Scenario&, std::size_t)> mutableRecord;
     /// A table of arrays: appends a default record and returns it.
     std::function<void*(Scenario&)> append;
-    /// A table of arrays of terminals: records the entry's line in the file (for messages).
+    /// Records the line of the table (of an entry, for a table of arrays) in the file (for messages).
     std::function<void(void* record, int line)> setLine;
     /// A default record (for defaults of a table of arrays' keys).
     std::function<const void*()> defaults;
@@ -111,7 +119,8 @@ struct ParamSection {
 };
 
 /// Every section, in file order: top level, domain, rock, rock.noise, rock.sphere, rock.plane,
-/// rock.channel, source, sink, stage1, stage2, output, site, site.horizon.
+/// rock.channel, rock.inception_horizon, rock.fracture_family, source, sink, recharge, stage1, stage2,
+/// hydrology, phase, output, site, site.horizon, speleothems.
 const std::vector<ParamSection>& scenarioParameters();
 
 /// The section at `path` ("stage2", "rock.sphere"); throws RuntimeError when there is none.

@@ -5,6 +5,8 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "sim/recharge.h"
+#include "sim/stage1.h"
 
 namespace cavesim {
 namespace {
@@ -14,7 +16,6 @@ constexpr double kProgramBytes = 64e6;     // the program, TBB, OpenVDB, before 
 constexpr double kDomainBytes = 25;        // porosity, porosity0, pressure, water, flow (float), zone (int32), flags
 constexpr double kMarchBytes = 12;         // the zone march's merged time (double) and label (int32)
 constexpr double kMarchPerThread = 13;     // per front marching at once: time (double), slowness (float), seed flag
-constexpr double kNetworkBytes = 450;      // per voxel of a zone's flow network (stage 1)
 constexpr double kStage2DenseBytes = 22;   // water (double), rate (float), pressure (double), seed + scratch flags
 constexpr double kStage2ActiveBytes = 80;  // per voxel of an active tile: 9 doubles of transients, masks
 constexpr double kActiveShare = 0.6;       // share of the block's tiles that water reaches (fig10 k = 1…4: 0.4–0.5)
@@ -36,12 +37,14 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
     const double n = double(s.size[0]) * double(s.size[1]) * double(s.size[2]);
     e.voxels = n;
     const double domain = kDomainBytes * n;
-    if (s.stage1.enabled && !s.sources.empty()) {
-        const double sources = double(s.sources.size());
+    const double sources = double(s.sources.size() + (s.recharge.empty() ? 0 : rechargeSources(s).size()));
+    if (s.stage1.enabled && sources > 0) {
         const double atOnce = std::min(sources, double(std::max(1, threads)));
-        const double zone = std::min({kLargestZone * n / sources, n, double(s.stage1.maxGraphVoxels)});
+        // The largest network: the largest zone, or the neighbourhood its network is limited to.
+        const double zone =
+            std::min({kLargestZone * n / sources, n, double(s.stage1.networkVoxels), double(s.stage1.maxGraphVoxels)});
         e.stage1Bytes =
-            domain + kMarchBytes * n + std::max(atOnce * kMarchPerThread * n, atOnce * zone * kNetworkBytes);
+            domain + kMarchBytes * n + std::max(atOnce * kMarchPerThread * n, atOnce * stage1NetworkBytes(zone));
     }
     if (s.stage2.enabled) e.stage2Bytes = domain + kStage2DenseBytes * n + kActiveShare * kStage2ActiveBytes * n;
     e.outputBytes = domain + kOutputBytes * n;

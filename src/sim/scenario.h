@@ -61,6 +61,44 @@ struct ChannelFeature {
     bool protochannel = true;
 };
 
+/// A fracture family (`[[rock.fracture_family]]`): a discrete fracture network of discs drawn from
+/// the scenario's seed (sim/fractures.h). Orientations are of the fracture planes: the dip direction
+/// is an azimuth clockwise from north (+y, with +x east and +z up); the poles scatter about the mean
+/// pole by a Fisher distribution. Disc diameters follow a truncated power law.
+struct FractureFamily {
+    double dipDirection = 0.0;    ///< degrees clockwise from +y of the mean plane's dip
+    double dip = 90.0;            ///< degrees below the horizontal of the mean plane
+    double kappa = 20.0;          ///< Fisher concentration of the poles about the mean pole
+    double spacing = 10.0;        ///< voxels: mean spacing along the mean pole (P32 = 1/spacing); 0 = `density`
+    double density = 0.0;         ///< fractures per voxel³ (P30); 0 = `spacing`
+    double lengthExponent = 2.5;  ///< a of the diameter density p(l) ∝ l^−a on [minLength, maxLength]
+    double minLength = 4.0;       ///< voxels: least disc diameter
+    double maxLength = 40.0;      ///< voxels: largest disc diameter
+    double aperture = 1.0;        ///< voxels: slab thickness across the disc
+    double porosity = 0.3;        ///< porosity inside the slab (the larger of this and the rock's)
+    int line = 0;                 ///< line in the scenario file (for messages)
+};
+
+/// How a `[[recharge]]` entry feeds the block (sim/recharge.h).
+enum class RechargeKind : std::uint8_t {
+    kSinkholes,  ///< `count` point inputs drawn from the seed within `area`, each of `pressure`
+    kDiffuse,    ///< one input per `spacing` × `spacing` cell of `area`, sharing `pressure`
+    kStream,     ///< inputs every `spacing` voxels along the polyline `points`, sharing `pressure`
+};
+
+/// Recharge (`[[recharge]]`): expands into ordinary sources in the block's top layer (the land
+/// surface), after the `[[source]]` entries (sim/recharge.h).
+struct RechargeSpec {
+    RechargeKind kind = RechargeKind::kSinkholes;
+    std::vector<int> area;      ///< [x0, y0, x1, y1] inclusive voxel columns; empty = the whole top face
+    int count = 5;              ///< sinkholes: how many
+    int radius = 0;             ///< sinkholes: half-width of each (a (2r+1)² × (r+1) box under the top), voxels
+    double spacing = 4.0;       ///< diffuse: cell size; stream: distance between inputs; voxels
+    double pressure = 1.0;      ///< sinkholes: each one's; diffuse and stream: the total, shared equally
+    std::vector<Vec3d> points;  ///< stream: the polyline, voxels (at least two points)
+    int line = 0;               ///< line in the scenario file (for messages)
+};
+
 struct SourceSpec {
     VoxelBox box;           ///< `at = [x,y,z]` gives a one-voxel box
     double pressure = 1.0;  ///< relative pressure
@@ -88,7 +126,7 @@ struct SiteSettings {
     std::string sinkholes;          ///< CSV x,y[,z],name[,pressure]: sources
     std::string springs;            ///< CSV x,y[,z],name[,pressure]: sinks
     std::string baseOfLimestone;    ///< GeoTIFF or XYZ: voxels whose centre is below it are insoluble
-    std::string waterTable;         ///< GeoTIFF or XYZ: kept on the site data (geology to come)
+    std::string waterTable;         ///< GeoTIFF or XYZ: stage 2's water table with `[hydrology] from_site`
     double sinkholePressure = 1.0;  ///< pressure of a sinkhole whose CSV row has none
 };
 
@@ -115,9 +153,14 @@ struct Scenario {
     std::vector<SphereObstacle> spheres;
     std::vector<PlaneFeature> planes;
     std::vector<ChannelFeature> channels;
+    /// Bedding planes that are inception horizons (`[[rock.inception_horizon]]`): slabs like
+    /// `planes` whose voxels also carry early flow in stage 2 (domain.h, `Domain::inception`).
+    std::vector<PlaneFeature> inceptionHorizons;
+    std::vector<FractureFamily> fractureFamilies;
 
     std::vector<SourceSpec> sources;
     std::vector<SinkSpec> sinks;
+    std::vector<RechargeSpec> recharge;  ///< expanded into sources after `sources` (sim/recharge.h)
 
     Stage1Options stage1;
     Stage2Options stage2;

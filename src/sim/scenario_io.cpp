@@ -18,6 +18,7 @@
 #include "core/text.h"
 #include "sim/default_scenario.h"
 #include "sim/parameters.h"
+#include "sim/recharge.h"
 #include "sim/scenario_toml.h"
 
 namespace cavesim {
@@ -280,8 +281,11 @@ std::pair<const ParamSection*, const Param*> probeParam(F pick) {
         p.spheres.resize(1);
         p.planes.resize(1);
         p.channels.resize(1);
+        p.inceptionHorizons.resize(1);
+        p.fractureFamilies.resize(1);
         p.sources.resize(1);
         p.sinks.resize(1);
+        p.recharge.resize(1);
         return p;
     }();
     return findParam(probe, pick(probe));
@@ -445,8 +449,7 @@ void readValue(TableReader& r, const ParamSection& section, const Param& p, cons
         case ParamType::kReal3: {
             const Vec3d v = r.toVec3(key, *n, lo, hi);
             p.set(record, std::vector<double>(v.begin(), v.end()));
-            if (&p == &entryOf([](Scenario& s) { return &s.planes[0].normal; }) && std::hypot(v[0], v[1], v[2]) < 1e-9)
-                r.fail(key, n, "must not be zero");
+            if (p.nonZero && std::hypot(v[0], v[1], v[2]) < 1e-9) r.fail(key, n, "must not be zero");
             break;
         }
         case ParamType::kReal3List: {
@@ -515,7 +518,13 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
             const std::size_t limit =
                 child.limitReason.empty() ? child.maxEntries : std::numeric_limits<std::size_t>::max();
             std::size_t entries = 0;
-            for (const toml::table* t : r.tableArray(key, limit)) {
+            const std::vector<const toml::table*> tables = r.tableArray(key, limit);
+            if (child.nonEmpty && tables.empty())
+                if (const toml::node* n = table.get(key))
+                    throw InputError(ctx.file + ":" + std::to_string(n->source().begin.line) + ": key '" + child.path +
+                                     "' = []: an empty list; give at least one " + child.header() +
+                                     " entry, or leave the key out");
+            for (const toml::table* t : tables) {
                 if (!child.limitReason.empty() && entries == child.maxEntries)
                     throw InputError(ctx.file + ":" + std::to_string(t->source().begin.line) + ": key '" + child.path +
                                      "': at most " + std::to_string(child.maxEntries) + " " + child.header() +
@@ -528,16 +537,11 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
             }
         } else if (const toml::table* t = r.subtable(key)) {
             TableReader cr(*t, child.path, ctx.file);
+            if (child.setLine) child.setLine(child.mutableRecord(ctx.s, 0), int(t->source().begin.line));
             readSection(child, *t, cr, child.mutableRecord(ctx.s, 0), ctx);
         }
     }
     r.finish(known);
-}
-
-bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
-    for (int c = 0; c < 3; ++c)
-        if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
-    return true;
 }
 
 std::string where(const Scenario& s, int line) {
@@ -555,6 +559,59 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
     readSection(topSection, root, top, &s, ctx);
     validateScenario(s);
     return s;
+}
+
+namespace {
+
+/// The water tables and the phases' terminals (docs/model.md, "Water table and gravity").
+void validateHydrology(const Scenario& s) {
+    const int nz = s.size[2];
+    const auto checkLevel = [&](double level, const void* field, int line, const std::string& entry) {
+        if (level == -1.0 || (level >= 0 && level <= nz - 1)) return;
+        std::ostringstream os;
+        os << where(s, line) << ": key '" << scenarioKey(s, field) << "'" << entry << " = " << level
+           << ": a water table must lie in the block, 0 to nz - 1 = " << nz - 1
+           << " (voxel index units), or be -1 for none";
+        throw InputError(os.str());
+    };
+    const Hydrology& h = s.stage2.hydrology;
+    checkLevel(h.waterTable, &h.waterTable, h.line, "");
+    if (h.fromSite && s.site.waterTable.empty())
+        throw InputError(where(s, h.line) + ": key '" + scenarioKey(s, &h.fromSite) + "' = true needs a surface in '" +
+                         scenarioKey(s, &s.site.waterTable) + "'");
+    if (h.fromSite && (h.waterTable != -1.0 || h.dip != 0.0))
+        throw InputError(where(s, h.line) + ": key '" + scenarioKey(s, &h.fromSite) +
+                         "' = true takes the table from the site: "
+                         "leave '" +
+                         scenarioKey(s, &h.waterTable) + "' at -1 and '" + scenarioKey(s, &h.dip) + "' at 0");
+    const auto& phases = s.stage2.phases;
+    for (std::size_t n = 0; n < phases.size(); ++n) {
+        const Stage2Phase& ph = phases[n];
+        const std::string entry = " (entry " + std::to_string(n + 1) + ")";
+        checkLevel(ph.waterTable, &ph.waterTable, ph.line, entry);
+        const auto checkIndices = [&](const std::vector<int>& list, const void* field, std::size_t count, bool fromSite,
+                                      const char* what) {
+            if (fromSite) return;  // a [site]'s sinkholes and springs are counted when the site is read
+            for (int x : list)
+                if (x < 1 || std::size_t(x) > count) {
+                    std::ostringstream os;
+                    os << where(s, ph.line) << ": key '" << scenarioKey(s, field) << "'" << entry << " names " << what
+                       << " " << x << ": the scenario has " << count << " [[" << what << "]] entries, numbered 1 to "
+                       << count << " in file order";
+                    throw InputError(os.str());
+                }
+        };
+        checkIndices(ph.sinks, &ph.sinks, s.sinks.size(), !s.site.springs.empty(), "sink");
+        checkIndices(ph.sources, &ph.sources, s.sources.size(), !s.site.sinkholes.empty(), "source");
+    }
+}
+
+}  // namespace
+
+bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
+    for (int c = 0; c < 3; ++c)
+        if (a.hi[c] < b.lo[c] || b.hi[c] < a.lo[c]) return false;
+    return true;
 }
 
 void validateScenario(const Scenario& s) {
@@ -600,8 +657,11 @@ void validateScenario(const Scenario& s) {
                 throw InputError(os.str());
             }
     }
+    validateFractureFamilies(s);
+    validateRecharge(s);
+    validateHydrology(s);
     // Sinkholes and springs of a [site] are sources and sinks too (read later, by the site module).
-    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.site.sinkholes.empty()) {
+    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.recharge.empty() && s.site.sinkholes.empty()) {
         throw InputError(s.path + ": key '" + source.path + "': at least one " + source.header() +
                          " is needed when a stage is enabled");
     }
@@ -746,7 +806,7 @@ void insertValue(toml::table& t, const Param& p, const ParamValue& v) {
 
 }  // namespace
 
-toml::table scenarioTable(const Scenario& s) {
+toml::table scenarioTable(const Scenario& s, bool everyTable) {
     toml::table root;
     for (const ParamSection& section : scenarioParameters()) {
         if (section.isArray) {
@@ -762,6 +822,10 @@ toml::table scenarioTable(const Scenario& s) {
             }
             parent.insert(section.path.substr(dot == std::string::npos ? 0 : dot + 1), std::move(entries));
         } else {
+            if (section.omitAtDefaults && !everyTable &&
+                std::all_of(section.params.begin(), section.params.end(),
+                            [&](const Param& p) { return p.get(section.record(s, 0)) == p.get(section.defaults()); }))
+                continue;
             toml::table& t = tableAt(root, section.path);
             for (const Param& p : section.params) insertValue(t, p, p.get(section.record(s, 0)));
         }

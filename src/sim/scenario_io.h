@@ -25,6 +25,9 @@ Scenario parseScenarioString(std::string_view text, const std::string& sourceNam
 /// @throw InputError naming the offending entry
 void validateScenario(const Scenario& scenario);
 
+/// Whether two boxes (inclusive voxel indices) share a voxel.
+bool boxesOverlap(const VoxelBox& a, const VoxelBox& b);
+
 /// The effective scenario as TOML, every default filled in; parses back to an equal scenario.
 std::string scenarioToToml(const Scenario& scenario);
 

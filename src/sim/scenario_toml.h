@@ -20,7 +20,9 @@ namespace cavesim {
 /// @throw InputError on any invalid content (as parseScenarioString)
 Scenario parseScenarioTable(const toml::table& root, const std::string& sourceName);
 
-/// The effective scenario as a TOML table, every key with its value (what scenarioToToml prints).
-toml::table scenarioTable(const Scenario& scenario);
+/// The effective scenario as a TOML table, every key with its value (what scenarioToToml prints:
+/// a table marked `omitAtDefaults` is left out when all its keys hold their defaults, unless
+/// `everyTable`).
+toml::table scenarioTable(const Scenario& scenario, bool everyTable = false);
 
 }  // namespace cavesim

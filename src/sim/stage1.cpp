@@ -32,9 +32,6 @@
 namespace cavesim {
 namespace {
 
-/// Peak heap bytes per zone voxel of network and solver (measured: about 1,650 on 26-neighbour zones).
-constexpr double kBytesPerVoxel = 1700;
-
 flownet::GridFaces gridFaces(const std::vector<GridFace>& list) {
     flownet::GridFaces faces{};
     for (const GridFace f : list) faces[std::size_t(f)] = true;
@@ -46,6 +43,11 @@ struct Frame {
     bool flipX = false, flipY = false;
 };
 constexpr std::array<Frame, 4> kFrames{{{false, false}, {true, false}, {false, true}, {true, true}}};
+
+/// The position of `f` in kFrames.
+std::size_t frameIndex(Frame f) {
+    return std::size_t(f.flipX) + 2 * std::size_t(f.flipY);
+}
 
 /// Voxel `v` of the grid seen in frame `f` (and back: the map is an involution).
 std::size_t inFrame(const Dims& d, std::size_t v, Frame f) {
@@ -161,12 +163,20 @@ struct ZoneWork {
 
 }  // namespace
 
-Grid3<std::int32_t> pressureZones(const Domain& domain, ZoneSpeed speed) {
+namespace {
+
+/// The zone march: arrival time of the winning front and its label per voxel.
+fastmarch::LabelledArrival zoneMarch(const Domain& domain, ZoneSpeed speed) {
     const Dims& d = domain.dims;
     std::vector<fastmarch::Seed> seeds;
     for (std::size_t s = 0; s < domain.sourceVoxels.size(); ++s)
         for (std::size_t v : domain.sourceVoxels[s]) seeds.push_back({v, 0.0, int(s)});
-    if (seeds.empty()) return Grid3<std::int32_t>(d, -1);
+    if (seeds.empty()) {
+        fastmarch::LabelledArrival none;
+        none.time = Grid3<double>(d, std::numeric_limits<double>::infinity());
+        none.label = Grid3<std::int32_t>(d, -1);
+        return none;
+    }
 
     // Front speed of source i at x: p_i · k(x). Uniform: k = 1. Porosity: k = R(x) / mean R, i.e.
     // slowness mean R / R(x), impassable where R = 0. Only ratios matter for who arrives first,
@@ -188,7 +198,35 @@ Grid3<std::int32_t> pressureZones(const Domain& domain, ZoneSpeed speed) {
             slow = &slowness;
         }
     }
-    return fastmarch::marchLabelled(d, slow, seeds, domain.sourcePressure).label;
+    return fastmarch::marchLabelled(d, slow, seeds, domain.sourcePressure);
+}
+
+/// The neighbourhood of a zone's source (stage1.h): of the network voxels `voxels` (increasing),
+/// those whose arrival time is at most the `limit`-th smallest (all of them on ties), sources
+/// always. Increasing.
+std::vector<std::size_t> neighbourhood(const std::vector<std::size_t>& voxels, const Grid3<double>& time,
+                                       std::size_t limit) {
+    if (voxels.size() <= limit || limit == 0) return voxels;
+    std::vector<double> t;
+    t.reserve(voxels.size());
+    for (std::size_t v : voxels) t.push_back(time[v]);
+    std::nth_element(t.begin(), t.begin() + std::ptrdiff_t(limit - 1), t.end());
+    const double cut = t[limit - 1];
+    std::vector<std::size_t> kept;
+    kept.reserve(limit);
+    for (std::size_t v : voxels)
+        if (time[v] <= cut) kept.push_back(v);
+    return kept;
+}
+
+}  // namespace
+
+double stage1NetworkBytes(double networkVoxels) {
+    return networkVoxels * kStage1BytesPerNetworkVoxel;
+}
+
+Grid3<std::int32_t> pressureZones(const Domain& domain, ZoneSpeed speed) {
+    return zoneMarch(domain, speed).label;
 }
 
 Grid3<float> stage1DisplayPorosity(const Domain& domain, double protochannelPorosity) {
@@ -210,7 +248,8 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
 
     // 1. Zones.
     reportProgress(progress, "stage 1: pressure zones", 0, 1);
-    domain.zone = pressureZones(domain, g.permeability);
+    fastmarch::LabelledArrival march = zoneMarch(domain, g.permeability);
+    domain.zone = std::move(march.label);
     result.zoneSeconds = t0.seconds();
     reportProgress(progress, "stage 1: pressure zones", 1, 1);
 
@@ -225,26 +264,57 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
         const bool source = domain.flags[v] & kSource;
         if (!(domain.flags[v] & kSink) && (!nearSink[v] || source)) work[std::size_t(z)].voxels.push_back(v);
     }
+    const long networkCap = std::max(1L, g.networkVoxels);
     for (std::size_t z = 0; z < nSources; ++z) {
         if (result.zoneVoxels[z] > 0) ++result.zones;
-        if (result.zoneVoxels[z] > g.maxGraphVoxels) {
-            throw Stage1LimitError("the pressure zone of source " + std::to_string(z + 1) + " has " +
-                                       withThousands(result.zoneVoxels[z]) + " voxels, more than the limit of " +
-                                       withThousands(g.maxGraphVoxels) + "; its flow network would need about " +
-                                       withThousands(long(double(result.zoneVoxels[z]) * kBytesPerVoxel / 1e6)) +
-                                       " MB. Raise the limit (up to 1e9) if the memory is there, or add sources to "
-                                       "split the domain into smaller zones",
+        const long network = std::min(result.zoneVoxels[z], networkCap);
+        if (network > g.maxGraphVoxels) {
+            const std::string what = result.zoneVoxels[z] <= networkCap
+                                         ? "the pressure zone of source " + std::to_string(z + 1) + " has " +
+                                               withThousands(result.zoneVoxels[z]) + " voxels"
+                                         : "the flow network of source " + std::to_string(z + 1) + " (its zone's " +
+                                               withThousands(networkCap) +
+                                               " voxels nearest the source, network_voxels) would have " +
+                                               withThousands(network) + " voxels";
+            throw Stage1LimitError(what + ", more than the limit of " + withThousands(g.maxGraphVoxels) +
+                                       "; its flow network would need about " +
+                                       withThousands(long(stage1NetworkBytes(double(network)) / 1e6)) +
+                                       " MB. Raise the limit (up to 1e9) if the memory is there, lower "
+                                       "network_voxels, or add sources to split the domain into smaller zones",
                                    int(z));
         }
     }
-    // Zones are solved in parallel: the largest ones that can run at once must fit in memory.
+    // A zone larger than `networkVoxels`: its network is the neighbourhood of its source. The
+    // zone's voxels left out are labelled nSources + z while the boundaries are found (another
+    // zone to `zoneBoundary`, so the neighbourhood's edge drains like the zone's boundary) and
+    // get their zone back afterwards.
+    std::vector<std::size_t> leftOut;
+    for (std::size_t z = 0; z < nSources; ++z) {
+        if (long(work[z].voxels.size()) <= networkCap) continue;
+        std::vector<std::size_t> kept = neighbourhood(work[z].voxels, march.time, std::size_t(networkCap));
+        for (std::size_t v : domain.sourceVoxels[z])  // sources stay (time 0, unless in another zone)
+            if (domain.zone[v] == std::int32_t(z) && !std::binary_search(kept.begin(), kept.end(), v) &&
+                std::binary_search(work[z].voxels.begin(), work[z].voxels.end(), v))
+                kept.insert(std::lower_bound(kept.begin(), kept.end(), v), v);
+        std::vector<std::size_t> out;
+        std::set_difference(work[z].voxels.begin(), work[z].voxels.end(), kept.begin(), kept.end(),
+                            std::back_inserter(out));
+        for (std::size_t v : out) {
+            domain.zone[v] = std::int32_t(nSources + z);
+            leftOut.push_back(v);
+        }
+        work[z].voxels.swap(kept);
+    }
+    march.time = Grid3<double>();
+    // Zones are solved in parallel: the largest networks that can run at once must fit in memory.
     {
-        std::vector<long> sizes(result.zoneVoxels.begin(), result.zoneVoxels.end());
+        std::vector<long> sizes;
+        for (const ZoneWork& w : work) sizes.push_back(long(w.voxels.size()));
         std::sort(sizes.begin(), sizes.end(), std::greater<>());
         const std::size_t atOnce =
             std::min<std::size_t>(sizes.size(), std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
         double need = 0;
-        for (std::size_t k = 0; k < atOnce; ++k) need += double(sizes[k]) * kBytesPerVoxel;
+        for (std::size_t k = 0; k < atOnce; ++k) need += stage1NetworkBytes(double(sizes[k]));
         const double limit = memoryLimitBytes();
         if (limit > 0 && need > 0.8 * limit)
             throw Stage1LimitError(
@@ -279,8 +349,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
         const std::vector<Vec3d> noAim;
         w.frame = canonicalFrame(d, role, domain.porosity, g.protosinks == ProtosinkMode::kClustered ? g.aim : noAim);
         for (std::size_t v : w.voxels) role[v] = kOutside;
-        for (std::size_t f = 0; f < kFrames.size(); ++f)
-            if (kFrames[f].flipX == w.frame.flipX && kFrames[f].flipY == w.frame.flipY) frameUsed[f] = true;
+        frameUsed[frameIndex(w.frame)] = true;
         w.voxels = listInFrame(d, w.voxels, w.frame);
         w.sources = listInFrame(d, w.sources, w.frame);
         candidates = listInFrame(d, candidates, w.frame);
@@ -302,12 +371,14 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
         }
         w.stats.protosinks = long(w.protosinks.size());
     }
+    for (std::size_t v : leftOut) domain.zone[v] = std::int32_t(domain.zone[v] - std::int32_t(nSources));
+    leftOut = std::vector<std::size_t>();
     // Porosity as each frame in use reads it.
     std::array<Grid3<float>, 4> framePorosity;
     for (std::size_t f = 1; f < kFrames.size(); ++f)
         if (frameUsed[f]) framePorosity[f] = gridInFrame(domain.porosity, kFrames[f]);
     const auto porosityIn = [&](Frame fr) -> const Grid3<float>& {
-        const std::size_t f = std::size_t(fr.flipX) + 2 * std::size_t(fr.flipY);
+        const std::size_t f = frameIndex(fr);
         return f == 0 ? domain.porosity : framePorosity[f];
     };
 
@@ -330,9 +401,12 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
             if (!w.voxels.empty() && !w.sources.empty()) {
                 const flownet::FlowNetwork net =
                     flownet::buildFlowNetwork(porosityIn(w.frame), w.voxels, w.sources, w.protosinks, netOptions);
+                w.stats.buildSeconds = tz.seconds();
                 flownet::MaxFlowResult flow = flownet::leastResistanceMaxFlow(net);
                 w.stats.cyclesCancelled = long(flownet::cancelFlowCycles(net, flow));
+                w.stats.solveSeconds = tz.seconds() - w.stats.buildSeconds;
                 const flownet::ProtochannelTree tree = flownet::traceProtochannels(net, flow, traceOptions);
+                w.stats.traceSeconds = tz.seconds() - w.stats.buildSeconds - w.stats.solveSeconds;
                 w.stats.graphNodes = long(net.voxelNodes);
                 w.stats.graphEdges = long(net.voxelEdgeCount());
                 w.stats.graphBytes = long(net.bytes() + flow.solverBytes + flow.flow.capacity() * sizeof(double));

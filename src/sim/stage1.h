@@ -23,6 +23,12 @@
 ///     the network, so no channel runs along the zone's edge). Each protosink drains at most its
 ///     share of `protosinkShare` × the source capacity (in proportion to its porosity): the
 ///     paper's "idealized small-flow gradient", the same all over the boundary.
+///     **Neighbourhood.** A zone with more network voxels than `networkVoxels` gets a network of
+///     its `networkVoxels` voxels the zone's front reached first (arrival time of the zone march
+///     at most the `networkVoxels`-th smallest, all on ties; source voxels always): an
+///     iso-arrival-time ball around the source. Its edge counts as zone boundary (protosinks
+///     there, as with a neighbouring zone). The reason is cost: time and memory of the max flow
+///     grow with the network (`kStage1BytesPerNetworkVoxel`), docs/model.md "Stage 1".
 ///  3. **Max flow** (src/flownet/max_flow.h): the maximum flow of least total resistance, by
 ///     primal–dual phases of Dijkstra + Boost.Graph's Boykov–Kolmogorov max flow; flow cycles
 ///     are then cancelled. The file comment there says why a plain max flow is not enough.
@@ -58,17 +64,30 @@
 
 namespace cavesim {
 
+/// Peak heap bytes of one flow network and its solver per network voxel (26-neighbour links:
+/// the network's arcs with capacity, resistance, target and reverse, Boost's CSR topology, the
+/// flow and the two per-phase arrays of the least-resistance max flow, and the per-node arrays;
+/// measured, bench/README.md "Stage 1 at scale"). Used by the memory check before the networks
+/// are built and by the pre-flight estimate (sim/preflight.h).
+constexpr double kStage1BytesPerNetworkVoxel = 1450;
+
+/// Peak bytes of one zone's network and solver with `networkVoxels` voxels.
+double stage1NetworkBytes(double networkVoxels);
+
 /// Size, flow and outcome of one zone's network.
 struct ZoneStats {
     int source = 0;               ///< source index (scenario order)
     long voxels = 0;              ///< voxels in the zone
-    long graphNodes = 0;          ///< voxel nodes of the network (the zone without its sinks)
+    long graphNodes = 0;          ///< voxel nodes of the network (the zone without its sinks, or its neighbourhood)
     long graphEdges = 0;          ///< undirected voxel–voxel edges with positive capacity
     long graphBytes = 0;          ///< peak heap bytes of network and solver
     double maxFlow = 0;           ///< max-flow value (capacity units: porosity^exponent)
     long protosinks = 0;          ///< protosink voxels
     long protochannelVoxels = 0;  ///< voxels traced
     double seconds = 0;           ///< wall time of build, solve and trace
+    double buildSeconds = 0;      ///< of it: building the network
+    double solveSeconds = 0;      ///< of it: least-resistance max flow and cycle cancelling
+    double traceSeconds = 0;      ///< of it: tracing the protochannels
     long protosinksWithFlow = 0;  ///< protosinks that received flow
     long branches = 0;            ///< branches of the protochannel tree
     long cyclesCancelled = 0;     ///< flow cycles removed before tracing
@@ -85,10 +104,10 @@ struct Stage1Result {
     double zoneSeconds = 0;          ///< wall time of the zone division
 };
 
-/// A stage-1 limit exceeded by the scenario (user input, exit 2): a zone larger than
-/// `Stage1Options::maxGraphVoxels`, or networks that would not fit in memory. The message says
-/// what to change; `source` is the index of the offending source (−1 for the memory limit), so the
-/// caller can point at the scenario entry and key.
+/// A stage-1 limit exceeded by the scenario (user input, exit 2): a network (zone or
+/// neighbourhood) larger than `Stage1Options::maxGraphVoxels`, or networks that would not fit in
+/// memory. The message says what to change; `source` is the index of the offending source (−1 for
+/// the memory limit), so the caller can point at the scenario entry and key.
 class Stage1LimitError : public InputError {
 public:
     Stage1LimitError(const std::string& message, int source) : InputError(message), source(source) {}
@@ -99,8 +118,9 @@ public:
 /// traced voxels kProtochannel. Porosity is not changed (the display of protochannels as opened
 /// channels, `Stage1Options::protochannelPorosity`, is the outputs' business: `stage1DisplayPorosity`).
 /// Deterministic for the rng state and any thread count.
-/// @throw Stage1LimitError if a zone has more voxels than `options.maxGraphVoxels` (checked
-///        before any network is built) or the networks solved at once would not fit in memory
+/// @throw Stage1LimitError if a network would have more voxels than `options.maxGraphVoxels` (the
+///        zone, or at most `networkVoxels` of it; checked before any network is built) or the
+///        networks solved at once would not fit in memory
 Stage1Result runStage1(Domain& domain, const Stage1Options& options, Rng& rng, const ProgressFn& progress = {});
 
 /// The zone division alone (step 1): zone label per voxel (source index, −1 none).

@@ -11,8 +11,10 @@
 
 #include "core/error.h"
 #include "core/timer.h"
+#include "core/vec3.h"
 #include "fastmarch/fast_marching.h"
 #include "sim/connectivity.h"
+#include "sim/stage2_checkpoint.h"
 #include "sim/stage2_steps.h"
 
 namespace cavesim {
@@ -256,10 +258,17 @@ std::array<double, 26> invLengths() {
     return out;
 }
 
-std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom) {
+/// Whether the 0-based `index` is in the 1-based `list` (empty = all).
+bool listed(const std::vector<int>& list, std::size_t index) {
+    return list.empty() || std::find(list.begin(), list.end(), int(index + 1)) != list.end();
+}
+
+/// The voxels of the sinks in `sinks` (1-based; empty = all) as pressure seeds.
+std::vector<fastmarch::Seed> sinkSeeds(const Domain& dom, const std::vector<int>& sinks = {}) {
     std::vector<fastmarch::Seed> seeds;
-    for (const auto& sink : dom.sinkVoxels)
-        for (std::size_t v : sink) seeds.push_back({v, 0.0, 0});
+    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+        if (listed(sinks, si))
+            for (std::size_t v : dom.sinkVoxels[si]) seeds.push_back({v, 0.0, 0});
     return seeds;
 }
 
@@ -399,12 +408,16 @@ namespace {
 /// documents). Erosion only raises porosity and adds flags, so a voxel's rate only falls.
 float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g) {
     const std::uint8_t f = dom.flags[v];
-    if (g.rateRule == RateRule::kChannelFlag) return float(f & kLowRate ? g.pRateChannel : g.pRate);
+    // An inception horizon carries early flow: its rate is read from its porosity against the rock's
+    // (the protochannel rule with the rock as the baseline), under either rule, until it is channel.
+    const bool inception = !dom.inception.data.empty() && dom.inception[v];
+    const float early = inception ? porosityRate(dom.porosity[v], dom.rockPorosity, g) : float(g.pRate);
+    if (g.rateRule == RateRule::kChannelFlag) return f & kLowRate ? float(g.pRateChannel) : early;
     // [[rock.channel]] conduits are given open (the paper's synthetic protochannels of Figures 8–9);
     // stage-1 protochannels follow their porosity.
     if (f & (kChannel | kOpen | kFeatureChannel)) return float(g.pRateChannel);
-    if (f & kProtochannel) return porosityRate(dom.porosity[v], dom.porosity0[v], g);
-    return float(g.pRate);
+    if (f & kProtochannel) return std::min(early, porosityRate(dom.porosity[v], dom.porosity0[v], g));
+    return early;
 }
 
 /// After voxel v's porosity or flags changed: lowers its rate to `voxelRate` and lists it for the
@@ -430,8 +443,17 @@ std::vector<bool> connectedSources(const Domain& dom) {
     return sourcesReached(dom, reachedFromSinks(dom, kConducting));
 }
 
-void reachFromSinks(const Domain& dom, Stage2State& st) {
-    st.reached = reachedFromSinks(dom, kConducting);
+void reachFromSinks(const Domain& dom, Stage2State& st, const std::vector<int>& sinks) {
+    st.reached.assign(dom.dims.count(), false);
+    std::deque<std::size_t> queue;
+    for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+        if (listed(sinks, si))
+            for (std::size_t v : dom.sinkVoxels[si])
+                if (!st.reached[v]) {
+                    st.reached[v] = true;
+                    queue.push_back(v);
+                }
+    spreadThrough(dom, kConducting, queue, st.reached);
 }
 
 std::vector<bool> extendReach(const Domain& dom, Stage2State& st, const std::vector<std::size_t>& newConducting) {
@@ -818,6 +840,41 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
     throw RuntimeError("stage 2, iteration " + std::to_string(iteration) + ": state became non-finite");
 }
 
+std::vector<double> waterTableColumns(const Dims& d, const Hydrology& h, double level) {
+    constexpr double kDegree = kPi / 180.0;
+    const double slope = std::tan(h.dip * kDegree);
+    const double sx = std::sin(h.dipDirection * kDegree), sy = std::cos(h.dipDirection * kDegree);
+    const double cx = 0.5 * double(d.nx - 1), cy = 0.5 * double(d.ny - 1);
+    std::vector<double> table(std::size_t(d.nx) * std::size_t(d.ny), level);
+    if (slope != 0)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i)
+                table[std::size_t(i) + std::size_t(d.nx) * std::size_t(j)] =
+                    level - slope * ((double(i) - cx) * sx + (double(j) - cy) * sy);
+    return table;
+}
+
+void gravityPotential(const Grid3<double>& P, const std::vector<double>& table, double cap, const Stage2Options& g,
+                      const Stage2State& st, bool all, Grid3<double>& potential) {
+    const Dims& d = P.dims;
+    const double lateral = g.hydrology.lateral;
+    const auto at = [&](std::size_t v, int i, int j, int k) {
+        const double z = table[std::size_t(i) + std::size_t(d.nx) * std::size_t(j)];
+        potential[v] = double(k) > z ? cap + g.pRate * (double(k) - z) + lateral * P[v] : P[v];
+    };
+    if (all) {
+        tbb::parallel_for(0, d.nz, [&](int k) {
+            for (int j = 0; j < d.ny; ++j)
+                for (int i = 0; i < d.nx; ++i) at(d.index(i, j, k), i, j, k);
+        });
+        return;
+    }
+    forEachTile(st, [&](const TileCtx& c) {
+        forEachVoxel(
+            d, c, [&](std::size_t v, std::size_t, int li, int lj, int lk) { at(v, c.i0 + li, c.j0 + lj, c.k0 + lk); });
+    });
+}
+
 }  // namespace stage2
 
 using namespace stage2;
@@ -856,29 +913,105 @@ Grid3<double> solvePressureFull(const Domain& dom, const Stage2Options& g) {
     return field.value();
 }
 
-Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& progress, const SnapshotFn& snapshot) {
+namespace {
+
+/// One phase as runStage2 runs it.
+struct PhasePlan {
+    int iterations = 0;
+    double waterTable = -1;
+    std::vector<int> sinks, sources;  ///< 1-based; empty = all
+    bool given = false;               ///< a `[[phase]]` entry (else the run's only phase)
+};
+
+std::vector<int> activeList(const std::vector<int>& list, std::size_t count) {
+    std::vector<int> out;
+    for (std::size_t n = 0; n < count; ++n)
+        if (listed(list, n)) out.push_back(int(n + 1));
+    return out;
+}
+
+/// The cave (channel voxels) above and below `table` (none: all below) into `prec`: counts,
+/// bounding boxes and the mean count above per z-slice that holds any.
+void caveAroundTable(const Domain& dom, const std::vector<double>* table, Stage2PhaseRecord& prec) {
+    const Dims& d = dom.dims;
+    const auto grow = [](std::array<int, 3>& lo, std::array<int, 3>& hi, long& count, const std::array<int, 3>& p) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            lo[c] = count == 0 ? p[c] : std::min(lo[c], p[c]);
+            hi[c] = count == 0 ? p[c] : std::max(hi[c], p[c]);
+        }
+        ++count;
+    };
+    long slices = 0;
+    for (int k = 0; k < d.nz; ++k) {
+        const long aboveBefore = prec.caveAbove;
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                if (!(dom.flags[d.index(i, j, k)] & kChannel)) continue;
+                if (table && isVadose(d, *table, i, j, k))
+                    grow(prec.aboveLo, prec.aboveHi, prec.caveAbove, {i, j, k});
+                else
+                    grow(prec.belowLo, prec.belowHi, prec.caveBelow, {i, j, k});
+            }
+        if (prec.caveAbove > aboveBefore) ++slices;
+    }
+    prec.aboveSliceMean = slices > 0 ? double(prec.caveAbove) / double(slices) : 0.0;
+}
+
+}  // namespace
+
+Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& progress, const SnapshotFn& snapshot,
+                       const Stage2Checkpoints& checkpoints) {
     const Stopwatch t0;
     const Dims d = dom.dims;
     const std::size_t n = d.count();
-    Stage2Result res;
-    res.pressureCap = stage2PressureCap(dom, g);
-    res.sourceConnectedIteration.assign(dom.sourceVoxels.size(), std::nullopt);
-    std::vector<Refill> refill = refillLevels(dom);
+    Carry c(d);
+    Stage2Result& res = c.result;
+    std::vector<Refill>& refill = c.refill;
+    const std::vector<Refill> allRefill = refillLevels(dom);
     const bool byHead = g.inflow == SourceInflow::kHead;
-    res.sourceInjected.assign(dom.sourceVoxels.size(), 0.0);
+    Grid3<float>& rate = c.rate;
+    fastmarch::EikonalField& pressure = c.pressure;
+    Stage2State& st = c.state;
+    double& stored = c.stored;
+    double secondsBefore = 0;  // a resumed run's time before it stopped
 
-    Grid3<float> rate = rateField(dom, g);
-    fastmarch::EikonalField pressure;
+    // The phases: the `[[phase]]` entries, or one phase of `iterations` under `[hydrology]`'s table.
+    std::vector<PhasePlan> plan;
+    for (const Stage2Phase& ph : g.phases)
+        plan.push_back(
+            {ph.iterations, ph.waterTable >= 0 ? ph.waterTable : g.hydrology.waterTable, ph.sinks, ph.sources, true});
+    if (plan.empty()) plan.push_back({g.iterations, g.hydrology.waterTable, {}, {}, false});
+    int totalIterations = 0;
+    // A site's surface stands for `[hydrology]`'s level where a phase gives none.
+    const bool siteTable = g.hydrology.fromSite && !dom.siteWaterTable.empty();
+    bool gravity = siteTable;
+    for (const PhasePlan& ph : plan) {
+        totalIterations += ph.iterations;
+        gravity = gravity || ph.waterTable >= 0;
+    }
+    const bool phased = !g.phases.empty() || gravity;  // else the paper's model, unchanged
+    if (phased && (checkpoints.resume || checkpoints.every > 0))
+        throw InputError(
+            "checkpoints are not available yet for runs with a water table ([hydrology]) or [[phase]] "
+            "entries: run without --checkpoint-every");
 
-    Stage2State st(d);
-    startStage2(dom, g, st, rate);
-    {
+    if (checkpoints.resume) {
+        decodeCarry(*checkpoints.resume, checkpoints.resumeName, c, dom);
+        if (c.iteration > totalIterations || res.sourceConnectedIteration.size() != dom.sourceVoxels.size())
+            throw InputError(checkpoints.resumeName + ": a stage-2 state that does not belong to this scenario");
+        secondsBefore = res.seconds;
+    } else {
+        res.pressureCap = stage2PressureCap(dom, g);
+        res.sourceConnectedIteration.assign(dom.sourceVoxels.size(), std::nullopt);
+        refill = allRefill;
+        res.sourceInjected.assign(dom.sourceVoxels.size(), 0.0);
+        rate = rateField(dom, g);
+        startStage2(dom, g, st, rate);
         const Stopwatch tp;
         pressure.solve(d, rate, sinkSeeds(dom), res.pressureCap, fastmarch::Stencil::kAvalanche26);
         res.pressureSeconds += tp.seconds();
     }
     std::vector<std::size_t> changed, conducting;
-    double stored = 0;
     // Water and the settled pressure field into the domain.
     const auto publish = [&] {
         pressure.settle(rate);
@@ -888,61 +1021,143 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         }
     };
 
-    for (int it = 1; it <= g.iterations; ++it) {
-        Stage2Record rec;
-        rec.iteration = it;
-        const double storedBefore = stored;
-        const Grid3<double>& P = pressure.value();
+    // Sinks inactive in a phase neither drain nor hold the pressure at 0: their voxels lose the
+    // sink flag and are marked inert (never eroded) until the end of the run.
+    std::vector<std::uint8_t> sinkFlags;  // the flags of the sinks' voxels as given, in voxel order
+    if (phased)
+        for (const auto& sink : dom.sinkVoxels)
+            for (std::size_t v : sink) sinkFlags.push_back(dom.flags[v]);
+    const auto restoreSinks = [&] {
+        std::size_t at = 0;
+        for (const auto& sink : dom.sinkVoxels)
+            for (std::size_t v : sink) dom.flags[v] = sinkFlags[at++];
+    };
+    Grid3<double> potential;
+    std::vector<double> table;
+    if (gravity) potential = Grid3<double>(d, 0.0);
 
-        const Stopwatch tt;
-        if (byHead) headLevels(P, res.pressureCap, refill);
-        rec.injected = refillSources(dom, refill, st, &res.sourceInjected);
-        computeOffers(dom, P, g.weight, st);
-        computeAcceptance(dom, P, g.weight, st);
-        std::tie(rec.flow, rec.drained) = moveWater(dom, P, g.weight, st);
-        res.transportSeconds += tt.seconds();
-
-        const Stopwatch te;
-        blendFlow(dom, P, g.blending, st);
-        changed.clear();
-        conducting.clear();
-        rec.eroded = erode(dom, g, st, rate, changed, conducting);
-        growActiveTiles(st);
-        for (std::size_t sl = 0; sl < st.activeTiles.size(); ++sl)
-            if (st.nearSender[sl])
-                for (std::uint8_t b : st.workMask[sl]) res.workedVoxelIterations += double(__builtin_popcount(b));
-        res.erosionSeconds += te.seconds();
-
-        // Pressure: propagate the decreases caused by new channel voxels.
-        {
-            const Stopwatch tp;
-            rec.pressureUpdates = long(updatePressure(pressure, rate, changed, pressureNeeded(st, pressure.value())));
-            res.pressureSeconds += tp.seconds();
-        }
-
-        // Bookkeeping.
-        std::tie(stored, rec.channelVoxels) = waterAndChannels(dom, st, P, it);
-        rec.stored = stored;
-        rec.balanceError = std::abs((stored - storedBefore) - (rec.injected - rec.drained));
-        res.totalInjected += rec.injected;
-        res.totalDrained += rec.drained;
-        const std::vector<bool> conn = extendReach(dom, st, conducting);
-        for (std::size_t si = 0; si < conn.size(); ++si) {
-            if (conn[si]) {
-                ++rec.sourcesConnected;
-                if (!res.sourceConnectedIteration[si]) res.sourceConnectedIteration[si] = it;
+    int it = c.iteration;  // 0, or the iteration a checkpoint was taken after (one phase then)
+    int phaseEnd = 0;
+    for (std::size_t phaseIndex = 0; phaseIndex < plan.size(); ++phaseIndex) {
+        const PhasePlan& ph = plan[phaseIndex];
+        phaseEnd += ph.iterations;
+        const bool fromSite = siteTable && ph.waterTable < 0;  // this phase's table is the site's surface
+        const bool hasTable = ph.waterTable >= 0 || fromSite;
+        Stage2PhaseRecord prec;
+        prec.firstIteration = it + 1;
+        prec.waterTable = ph.waterTable >= 0 ? ph.waterTable : -1.0;
+        prec.fromSite = fromSite;
+        prec.sinks = activeList(ph.sinks, dom.sinkVoxels.size());
+        prec.sources = activeList(ph.sources, dom.sourceVoxels.size());
+        prec.channelVoxelsStart = st.channelVoxels;
+        if (phased) {
+            // The phase's terminals, pressure and connectivity.
+            if (ph.given) {
+                std::size_t at = 0;
+                for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
+                    for (std::size_t v : dom.sinkVoxels[si]) {
+                        const std::uint8_t given = sinkFlags[at++];
+                        dom.flags[v] = listed(ph.sinks, si)
+                                           ? given
+                                           : std::uint8_t((given & ~std::uint8_t(kSink)) | std::uint8_t(kInert));
+                    }
+                refill.clear();
+                for (const Refill& r : allRefill)
+                    if (listed(ph.sources, std::size_t(r.source))) refill.push_back(r);
+                if (phaseIndex > 0 || !ph.sinks.empty()) {
+                    const Stopwatch tp;
+                    rate = rateField(dom, g);
+                    pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap,
+                                   fastmarch::Stencil::kAvalanche26);
+                    res.pressureSeconds += tp.seconds();
+                    reachFromSinks(dom, st, ph.sinks);  // only the active sinks are searched from
+                    std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
+                }
+                std::fill(st.waterChanged.begin(), st.waterChanged.end(), std::uint8_t(1));
+            }
+            if (gravity) {
+                table = fromSite ? dom.siteWaterTable
+                                 : waterTableColumns(d, g.hydrology, hasTable ? ph.waterTable : double(d.nz));
+                gravityPotential(pressure.value(), table, res.pressureCap, g, st, true, potential);
             }
         }
-        if (rec.sourcesConnected > 0 && !res.breakthroughIteration) res.breakthroughIteration = it;
-        res.history.push_back(rec);
-        res.iterations = it;
 
-        if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
-            publish();  // the whole field for the picture
-            snapshot(it, dom);
+        while (it < phaseEnd) {
+            ++it;
+            Stage2Record rec;
+            rec.iteration = it;
+            const double storedBefore = stored;
+            const Grid3<double>& P = pressure.value();
+
+            const Stopwatch tt;
+            if (byHead) headLevels(P, res.pressureCap, refill);
+            rec.injected = refillSources(dom, refill, st, &res.sourceInjected);
+            if (gravity) gravityPotential(P, table, res.pressureCap, g, st, false, potential);
+            const Grid3<double>& T = gravity ? potential : P;  // what drives the water
+            computeOffers(dom, T, g.weight, st);
+            computeAcceptance(dom, T, g.weight, st);
+            std::tie(rec.flow, rec.drained) = moveWater(dom, T, g.weight, st);
+            res.transportSeconds += tt.seconds();
+
+            const Stopwatch te;
+            blendFlow(dom, T, g.blending, st);
+            changed.clear();
+            conducting.clear();
+            rec.eroded = erode(dom, g, st, rate, changed, conducting);
+            growActiveTiles(st);
+            for (std::size_t sl = 0; sl < st.activeTiles.size(); ++sl)
+                if (st.nearSender[sl])
+                    for (std::uint8_t b : st.workMask[sl]) res.workedVoxelIterations += double(__builtin_popcount(b));
+            res.erosionSeconds += te.seconds();
+
+            // Pressure: propagate the decreases caused by new channel voxels.
+            {
+                const Stopwatch tp;
+                rec.pressureUpdates =
+                    long(updatePressure(pressure, rate, changed, pressureNeeded(st, pressure.value())));
+                res.pressureSeconds += tp.seconds();
+            }
+
+            // Bookkeeping.
+            std::tie(stored, rec.channelVoxels) = waterAndChannels(dom, st, P, it);
+            rec.stored = stored;
+            rec.balanceError = std::abs((stored - storedBefore) - (rec.injected - rec.drained));
+            res.totalInjected += rec.injected;
+            res.totalDrained += rec.drained;
+            prec.injected += rec.injected;
+            prec.drained += rec.drained;
+            prec.eroded += rec.eroded;
+            const std::vector<bool> conn = extendReach(dom, st, conducting);
+            for (std::size_t si = 0; si < conn.size(); ++si) {
+                if (conn[si]) {
+                    ++rec.sourcesConnected;
+                    if (!res.sourceConnectedIteration[si]) res.sourceConnectedIteration[si] = it;
+                }
+            }
+            if (rec.sourcesConnected > 0 && !res.breakthroughIteration) res.breakthroughIteration = it;
+            if (rec.sourcesConnected > 0 && !prec.breakthroughIteration) prec.breakthroughIteration = it;
+            res.history.push_back(rec);
+            res.iterations = it;
+            c.iteration = it;
+
+            if (snapshot && std::find(g.snapshots.begin(), g.snapshots.end(), it) != g.snapshots.end()) {
+                publish();  // the whole field for the picture
+                snapshot(it, dom);
+            }
+            if (checkpoints.save && checkpoints.every > 0 && it % checkpoints.every == 0 && it < totalIterations) {
+                res.seconds = secondsBefore + t0.seconds();
+                checkpoints.save(it, encodeCarry(c, dom));
+            }
+            reportProgress(progress, "stage 2", it, totalIterations);
         }
-        reportProgress(progress, "stage 2", it, g.iterations);
+        if (phased) {
+            prec.iterations = ph.iterations;
+            prec.channelVoxelsEnd = st.channelVoxels;
+            caveAroundTable(dom, hasTable ? &table : nullptr, prec);
+            res.phases.push_back(std::move(prec));
+        }
     }
+    if (phased) restoreSinks();
 
     res.activeTiles = long(st.activeTiles.size());
     res.tiles = long(st.tileSlot.size());
@@ -953,8 +1168,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         throw RuntimeError("stage 2: water not conserved (relative error " + std::to_string(res.waterBalanceRelError) +
                            ")");
     }
-    res.seconds = t0.seconds();
-    return res;
+    res.seconds = secondsBefore + t0.seconds();
+    return std::move(res);
 }
 
 }  // namespace cavesim

@@ -29,8 +29,10 @@
 /// result is the same for any thread count.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/progress.h"
@@ -53,6 +55,27 @@ struct Stage2Record {
     double balanceError = 0;   ///< |Δstored − (injected − drained)| this iteration
 };
 
+/// Totals of one base-level phase (`[[phase]]`, or the single phase of a run with a water table).
+/// Volumes in voxels (the report converts them to m³).
+struct Stage2PhaseRecord {
+    int firstIteration = 0;  ///< the phase's first iteration (1-based, run order)
+    int iterations = 0;      ///< iterations the phase ran
+    /// voxels: the table's height at the centre column; −1 none (also for a site's surface: `fromSite`)
+    double waterTable = -1;
+    bool fromSite = false;                     ///< the table was `[site] water_table`
+    std::vector<int> sinks, sources;           ///< active terminals, 1-based scenario order
+    std::optional<int> breakthroughIteration;  ///< first iteration of the phase with a source joined to an active sink
+    long channelVoxelsStart = 0;               ///< channel voxels when the phase began
+    long channelVoxelsEnd = 0;                 ///< channel voxels when it ended
+    long caveBelow = 0, caveAbove = 0;         ///< channel voxels at or below / above the phase's table at its end
+    /// voxels: bounding box (lo, hi per axis, inclusive) of the channel voxels above the table at the
+    /// phase's end; lo > hi when there are none
+    std::array<int, 3> aboveLo{0, 0, 0}, aboveHi{-1, -1, -1};
+    std::array<int, 3> belowLo{0, 0, 0}, belowHi{-1, -1, -1};  ///< the same, at or below the table
+    double aboveSliceMean = 0;  ///< channel voxels above the table per z-slice that holds any (a plan-view width)
+    double injected = 0, drained = 0, eroded = 0;  ///< water and porosity totals of the phase
+};
+
 struct Stage2Result {
     int iterations = 0;
     std::optional<int> breakthroughIteration;                  ///< first iteration with a source joined to a sink
@@ -67,10 +90,25 @@ struct Stage2Result {
     double workedVoxelIterations = 0;  ///< Σ over iterations of the voxels that worked (senders and their neighbours)
     long activeTiles = 0;              ///< 8³ tiles the water reached, with their neighbours, at the end
     long tiles = 0;                    ///< 8³ tiles of the block
+    /// per phase, in order; empty without `[hydrology]` and `[[phase]]` (the paper's model)
+    std::vector<Stage2PhaseRecord> phases;
 };
 
 /// Called after the iterations listed in `[stage2] snapshots` (and never otherwise).
 using SnapshotFn = std::function<void(int iteration, const Domain& domain)>;
+
+/// Checkpoints of stage 2: its whole state between two iterations as bytes
+/// (sim/stage2_checkpoint.h), to continue a stopped run bit for bit.
+struct Stage2Checkpoints {
+    int every = 0;  ///< iterations between checkpoints; 0: none
+    /// Called after every `every`-th iteration except the last (after its snapshot) with the
+    /// iteration and the state's bytes.
+    std::function<void(int iteration, const std::string& state)> save;
+    /// Not null: continue from these bytes (a state `save` received, for this domain after
+    /// `prepareStage2`) with the iteration after theirs, instead of starting.
+    const std::string* resume = nullptr;
+    std::string resumeName;  ///< names `resume`'s source in messages
+};
 
 /// The interim step between the stages (paper §4): porosity back to its initial values,
 /// protochannel voxels raised to `options.protochannelPorosity`, sources set to
@@ -85,10 +123,16 @@ void prepareStage2(Domain& domain, const Stage2Options& options);
 /// pressures: only their ratios matter then).
 double stage2PressureCap(const Domain& domain, const Stage2Options& options);
 
-/// Runs the stage-2 iterations on a prepared domain.
+/// Runs the stage-2 iterations on a prepared domain: `options.iterations`, or the `options.phases`
+/// in order, each with its water table and active terminals (inactive sinks neither drain nor hold
+/// the pressure at 0 and are not eroded; inactive sources do not refill). The flags of the
+/// terminals are as given again when it returns.
 /// @throw RuntimeError if water conservation or finiteness is violated (a bug, never user input)
+/// With `checkpoints`, saves its state every so many iterations, or continues from a saved state:
+/// the result is the same bits either way.
+/// @throw InputError when `checkpoints.resume` is not a state of this domain (damaged bytes)
 Stage2Result runStage2(Domain& domain, const Stage2Options& options, const ProgressFn& progress = {},
-                       const SnapshotFn& snapshot = {});
+                       const SnapshotFn& snapshot = {}, const Stage2Checkpoints& checkpoints = {});
 
 /// Recomputes the pressure of the current domain from scratch (used by tests and by the
 /// incremental-update check): same rule as inside runStage2.

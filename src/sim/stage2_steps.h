@@ -15,6 +15,9 @@
 ///  8. bookkeeping          `waterAndChannels` (totals, the finite check) and
 ///                          `connectedSources` (sources joined to a sink)
 ///
+/// Under a water table (`[hydrology]`, `[[phase]]`), steps 2–5 read the potential of
+/// `gravityPotential` instead of the pressure: vadose water runs down under gravity.
+///
 /// Units: water and porosity in voxel-capacity units (a voxel of porosity R holds at most R);
 /// pressure in the scenario's pressure units. All indices are voxel (index) space.
 /// Every sum over neighbours pairs the −x and +x neighbour first (so an x-mirrored state gives
@@ -206,9 +209,9 @@ double pressureNeeded(Stage2State& state, const Grid3<double>& pressure);
 /// tests; runStage2 uses the incremental `extendReach`.
 std::vector<bool> connectedSources(const Domain& domain);
 
-/// Marks as reached everything joined to a sink through channel, source and sink voxels, from
-/// scratch (startStage2 calls it once).
-void reachFromSinks(const Domain& domain, Stage2State& state);
+/// Marks as reached everything joined to a sink in `sinks` (1-based; empty = all) through channel,
+/// source and sink voxels, from scratch (startStage2 and each phase of runStage2 call it once).
+void reachFromSinks(const Domain& domain, Stage2State& state, const std::vector<int>& sinks = {});
 
 /// Incremental connectivity: the conducting voxels only grow, so after `newConducting` joined them
 /// only what a new voxel touches can become reached: a search from each new voxel that touches a
@@ -222,9 +225,31 @@ std::vector<bool> extendReach(const Domain& domain, Stage2State& state, const st
 std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State& state, const Grid3<double>& pressure,
                                          int iteration);
 
+/// The water table's height z (voxel index units) at the centre of each column, index i + nx · j: a
+/// plane through `level` at the centre column ((nx − 1) / 2, (ny − 1) / 2) that falls at
+/// tan(hydrology.dip) towards `hydrology.dipDirection` (degrees clockwise from +y).
+std::vector<double> waterTableColumns(const Dims& dims, const Hydrology& hydrology, double level);
+
+/// True if voxel (i, j, k) is vadose under the table `table` (from waterTableColumns): its centre
+/// lies above the table.
+inline bool isVadose(const Dims& dims, const std::vector<double>& table, int i, int j, int k) {
+    return double(k) > table[std::size_t(i) + std::size_t(dims.nx) * std::size_t(j)];
+}
+
+/// The vadose rule (docs/model.md, "Water table and gravity"): the potential that drives the
+/// transport, blending and erosion steps in place of the pressure. Phreatic voxels (centre at or
+/// below the table): Φ = P, the paper's pressure. Vadose voxels: Φ = cap + pRate · (k − table) +
+/// lateral · P — water is not pressurised there and runs downhill: every vadose voxel lies above
+/// every phreatic one (P ≤ cap), one voxel down is always lower (by at least pRate · (1 − lateral)),
+/// and on a level floor water drifts towards lower field pressure, the sinks. Written on the
+/// active tiles, or (all) on the whole grid. Units: pressure units; k and table in voxels.
+void gravityPotential(const Grid3<double>& pressure, const std::vector<double>& table, double cap,
+                      const Stage2Options& options, const Stage2State& state, bool all, Grid3<double>& potential);
+
 /// The pressure rate field of a domain: pRateChannel on channel, source and sink voxels; elsewhere
 /// `porosityRate` (RateRule::kPorosity), or pRateChannel on protochannels and pRate on the rest
-/// (RateRule::kChannelFlag).
+/// (RateRule::kChannelFlag). On an inception horizon (`Domain::inception`) a voxel that is not
+/// channel, source or sink takes at most porosityRate(R, rock porosity), under either rule.
 Grid3<float> rateField(const Domain& domain, const Stage2Options& options);
 
 }  // namespace cavesim::stage2

@@ -58,9 +58,11 @@ render::Camera closeUpCamera(const DecorationField& f, const Stalactite& st, int
     return cam;
 }
 
-/// The close-up's subject: the most slender stalactite (length over radius) at least two voxels
-/// long, so a metre-wide convex bulge of the cave's own ceiling is not chosen over a speleothem.
+/// The close-up's subject: the longest grown speleothem (`st` is ordered by grown length) when
+/// it grew at least two voxels; otherwise the most slender stalactite (length over radius) at
+/// least two voxels long, so a metre-wide convex bulge of the cave's own ceiling is not chosen.
 const Stalactite& closeUpSubject(const std::vector<Stalactite>& st, double voxel) {
+    if (st[0].grownLength >= 2 * voxel) return st[0];
     std::size_t best = 0;
     double bestRatio = -1;
     for (std::size_t i = 0; i < st.size(); ++i) {
@@ -123,6 +125,7 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
     if (caveMesh.triangles.empty()) return sum;
     DecorationField field = fieldFromMesh(caveMesh, o.voxelSize);
     addCeilingRoughness(field, o.roughness, o.roughnessScale, o.seed);
+    const DecorationField original = field;  // the ceiling before growth, to measure what grew
 
     const int frames = images ? o.frames : 0;
     std::vector<double> frameYears;
@@ -137,6 +140,7 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
             frameTimes.push_back(years);
         });
     sum.stalactites = g.stalactites;
+    measureGrowth(original, sum.stalactites);
     sum.steps = g.steps;
     sum.years = g.years;
     sum.maxSpeed = g.maxSpeed;

@@ -24,7 +24,7 @@ namespace cavesim::speleo {
 
 /// What a decoration produced, for the report.
 struct DecorationSummary {
-    std::vector<Stalactite> stalactites;  ///< on the final surface, largest first
+    std::vector<Stalactite> stalactites;  ///< on the final surface, longest grown first (measureGrowth)
     int steps = 0;
     double years = 0;
     double maxSpeed = 0;                ///< m/yr

@@ -34,7 +34,6 @@ using openvdb::Vec3d;
 constexpr int kHalfWidth = 3;            // band half width, voxels
 constexpr double kShell = 2.0;           // stalactite points lie within this many voxels of the surface
 constexpr double kTipFacing = 0.7071;    // a tip faces down within 45° of vertical
-constexpr double kMinCos = 0.2;          // cos θ floor of the tip's vertical speed
 constexpr double kDripNoiseScale = 1.0;  // metres, feature size of the drip variability
 constexpr std::uint64_t kDripSalt = 0x9e3779b97f4a7c15ull;
 
@@ -188,26 +187,19 @@ Analysis analyse(const FloatGrid& grid, const SpeleothemOptions& o) {
         st.dripFactor = std::exp(o.dripVariability * dripNoise.sample(tx / kDripNoiseScale, ty / kDripNoiseScale,
                                                                       0.5 + tz / kDripNoiseScale));
         const double alpha = o.alpha * st.dripFactor;
-        // Step 2: Short's law outside the tip; the ring's mean vertical speed for step 3.
-        double ringSum = 0;
-        long ringCount = 0;
+        // Steps 2 and 3. Within the tip radius ε of the axis the tip translates down at Short's
+        // tip speed c = α·l_Q (normal speed c·cos θ), fixed, never slaved to its neighbours (a tip
+        // that follows its ring has no speed of its own and runs away). Outside, Short's law with
+        // r·sin θ floored at ε, so no wall point is faster than the law's value at ε. The shape
+        // tends to the profile translating at c: r·sin θ·cos³θ = l_Q where r·sin θ ≥ ε (Short's
+        // platonic profile), cos θ = (l_Q/ε)^(1/3) below (docs/speleothems.md).
         for (std::size_t k = 0; k < members.size(); ++k) {
-            if (r[k] <= rTip) continue;
             const Sample& p = s[members[k]];
             const double sinT = std::hypot(double(p.nAir[0]), double(p.nAir[1]));
-            const double v = shortSpeed(alpha, o.lQ, std::max(r[k] * sinT, rTip));
-            a.speed[members[k]] = v;
-            if (r[k] <= 2 * rTip) {
-                ringSum += v / std::max(double(-p.nAir[2]), kMinCos);
-                ++ringCount;
-            }
+            a.speed[members[k]] = r[k] <= rTip ? alpha * o.lQ * std::max(0.0, double(-p.nAir[2]))
+                                               : shortSpeed(alpha, o.lQ, std::max(r[k] * sinT, rTip));
         }
-        // Never faster than Short's tip speed α·l_Q (the lengthening rate of his asymptotic shape).
-        const double w =
-            std::min(ringCount > 0 ? ringSum / double(ringCount) : shortSpeed(alpha, o.lQ, rTip), alpha * o.lQ);
-        for (std::size_t k = 0; k < members.size(); ++k)
-            if (r[k] <= rTip) a.speed[members[k]] = w * std::max(0.0, double(-s[members[k]].nAir[2]));
-        st.tipSpeed = w;
+        st.tipSpeed = alpha * o.lQ;
 
         // Step 4: the drip falls to the first rock below the tip.
         for (double z = tz - h; z > tz - 1000.0; z -= 0.5 * h) {
@@ -452,6 +444,40 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
     }
     res.years = t;
     return res;
+}
+
+void measureGrowth(const DecorationField& original, std::vector<Stalactite>& stalactites) {
+    CAVESIM_CHECK(original.impl && original.impl->grid, "an empty decoration field");
+    const FloatGrid& g = *original.impl->grid;
+    const double h = g.voxelSize()[0];
+    const double band = kHalfWidth * h;
+    openvdb::tools::GridSampler<FloatGrid, openvdb::tools::BoxSampler> sampler(g);
+    const auto d = [&](const Stalactite& st, double z) { return sampler.wsSample(Vec3d(st.tip[0], st.tip[1], z)); };
+    for (Stalactite& st : stalactites) {
+        st.grownLength = 0;
+        double lo = st.tip[2];
+        if (d(st, lo) >= 0) continue;  // the tip is original rock
+        // Up to the first original rock, leaping through deep air by the band's width.
+        double hi = lo;
+        bool found = false;
+        for (int k = 0; k < 1000000 && !found; ++k) {
+            const double v = d(st, hi);
+            if (v >= 0) {
+                found = true;
+                break;
+            }
+            lo = hi;
+            hi += v <= -0.999 * band ? band - h : 0.5 * h;
+        }
+        if (!found) continue;
+        for (int i = 0; i < 40; ++i) {
+            const double m = 0.5 * (lo + hi);
+            (d(st, m) >= 0 ? hi : lo) = m;
+        }
+        st.grownLength = 0.5 * (lo + hi) - st.tip[2];
+    }
+    std::stable_sort(stalactites.begin(), stalactites.end(),
+                     [](const Stalactite& x, const Stalactite& y) { return x.grownLength > y.grownLength; });
 }
 
 mesh::TriangleMesh meshField(const DecorationField& field) {

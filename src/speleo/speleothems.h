@@ -15,11 +15,13 @@
 ///     point from the vertical axis through the tip, θ the wall's angle to the horizontal
 ///     (sin θ = horizontal part of the unit normal), α scaled per drip site by
 ///     exp(dripVariability·g), g a smooth seeded noise of the tip's position in [-1, 1].
-///     r·sin θ is kept >= l_Q (the law's value there is α·l_Q, Short's tip speed), a guard only.
-///  3. **Tip** (§3.3): within `tipRadius` of the axis the law is singular; the tip is fitted
-///     instead of interpolated: it translates downward at w, the mean vertical speed v/cos θ
-///     (cos θ >= 0.2) of the stalactite's points between one and two tip radii from the axis, so
-///     its normal speed is w·cos θ, continuous with the ring around it.
+///     r·sin θ is floored at the tip radius ε (`tipRadius`, default two voxels).
+///  3. **Tip** (§3.3): within ε of the axis the law is singular; the tip translates down at
+///     Short's tip speed c = α·l_Q (the lengthening rate of his platonic stalactite), normal
+///     speed c·cos θ, fixed rather than interpolated from its neighbours. The shape then tends to
+///     the profile translating at c: r·sin θ·cos³θ = l_Q where r·sin θ ≥ ε, and walls at
+///     cos θ = (l_Q/ε)^(1/3) between the tip and there (when ε ≤ l_Q: Short's platonic profile,
+///     flat within 16/(3√3)·l_Q of the axis).
 ///  4. **Stalagmites**: below each tip the drip falls to the first rock straight down; upward
 ///     facing rock near that point rises at W·exp(-d²/(2R²)) (d the horizontal distance from
 ///     the drip axis, R `stalagmiteRadius`, W = stalagmiteRate × the tip speed of the stalactite
@@ -83,8 +85,9 @@ void addCeilingRoughness(DecorationField& field, double amplitude, double scale,
 struct Stalactite {
     Vec3d tip{0, 0, 0};         ///< lowest surface point, metres
     double length = 0;          ///< tip to the highest point of its convex patch, metres
+    double grownLength = 0;     ///< original ceiling straight above the tip down to the tip, metres (measureGrowth)
     double radius = 0;          ///< largest horizontal distance of its patch from the axis, metres
-    double tipSpeed = 0;        ///< downward speed of the fitted tip, m/yr
+    double tipSpeed = 0;        ///< downward speed of the tip, α·l_Q at its drip site, m/yr
     double dripFactor = 1;      ///< α multiplier of its drip site
     long points = 0;            ///< level-set voxels in its patch
     bool dripsOnFloor = false;  ///< a floor below its tip was found
@@ -121,6 +124,12 @@ struct GrowthResult {
 /// @throw InputError-free: options are validated by the registry; InternalError on a bad field
 GrowthResult grow(DecorationField& field, const SpeleothemOptions& options, const std::vector<double>& frameYears = {},
                   const GrowthCallback& atFrame = {});
+
+/// Sets `grownLength` of each stalactite: the vertical distance from its tip up to the surface of
+/// `original` (the field before growth) on the same vertical, i.e. the length of grown material
+/// below the original ceiling; 0 when the tip lies in original rock (nothing grew there). Then
+/// orders them by it (longest first, then by the previous order).
+void measureGrowth(const DecorationField& original, std::vector<Stalactite>& stalactites);
 
 /// The surface as a closed triangle mesh (wound outward, out of the cave), optionally only the
 /// part inside the box [lo, hi] (metres; the cut is closed by the box faces).

@@ -98,7 +98,8 @@ TEST(App, RebuiltReportMeasuresTheSameCave) {
     EXPECT_NE(msg.find("rebuilt"), std::string::npos);
     std::ifstream in(out / "report.json");
     const nlohmann::json again = nlohmann::json::parse(in);
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category", "checksums"})
+    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category", "pattern",
+                          "cross_sections", "checksums"})
         EXPECT_EQ(again[k], r.report[k]) << k;
 }
 
@@ -110,7 +111,8 @@ TEST(App, AlsoMeasureEqualsARunWithTheOtherCaveDefinition) {
     const app::PipelineResult both = runInto(s, scratch("both"), o);
     s.output.cave = CaveExtent::kWithProtochannels;
     const app::PipelineResult other = runInto(s, scratch("other"));
-    for (const char* k : {"network", "morphometry", "graph_metrics", "skeleton", "cave_category"})
+    for (const char* k :
+         {"network", "morphometry", "graph_metrics", "skeleton", "cave_category", "pattern", "cross_sections"})
         EXPECT_EQ(both.alsoMeasured[k], other.report[k]) << k;
 }
 

@@ -35,6 +35,30 @@ grep -v -e '^\[\[sink\]\]' -e '^box' good.toml > nosink.toml
 expect_exit 2 "stage 2 without sinks" -- "$CAVESIM" run nosink.toml --out o4
 stderr_has "stage 2 needs at least one [[sink]]"
 
+# Water table and phases (the small scenario is 12 voxels tall, with one sink).
+# refused_after_good NAME WHAT TEXT: good.toml with TEXT (printf format) appended, as NAME.toml, is refused by
+# `run` with exit 2 (the output folder o8 is checked at the end).
+refused_after_good() {
+  { cat good.toml; printf "$3"; } > "$1.toml"
+  expect_exit 2 "$2" -- "$CAVESIM" run "$1.toml" --out o8
+}
+refused_after_good table_high "water table above the block" '[hydrology]\nwater_table = 12\n'
+stderr_has "table_high.toml:21: key 'hydrology.water_table' = 12: a water table must lie in the block, 0 to nz - 1 = 11"
+printf 'phase = []\n' | cat - good.toml > phase_empty.toml
+expect_exit 2 "empty phase list" -- "$CAVESIM" run phase_empty.toml --out o8
+stderr_has "phase_empty.toml:1: key 'phase' = []: an empty list"
+refused_after_good phase_zero "phase with zero iterations" '[[phase]]\niterations = 0\n'
+stderr_has "phase.iterations' = 0"
+refused_after_good phase_sink "phase sink out of range" '[[phase]]\niterations = 10\nsinks = [2]\n'
+stderr_has "key 'phase.sinks' (entry 1) names sink 2: the scenario has 1 [[sink]] entries"
+refused_after_good phase_table "phase water table below the block" '[[phase]]\niterations = 10\nwater_table = -3\n'
+stderr_has "phase.water_table' = -3"
+refused_after_good phase_high "phase water table above the block" '[[phase]]\niterations = 10\nwater_table = 30\n'
+stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
+refused_after_good table_site "water table from a site without one" '[hydrology]\nfrom_site = true\n'
+stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
+[ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
+
 printf 'name = "x"\n[domain\n' > malformed.toml
 expect_exit 2 "malformed TOML" -- "$CAVESIM" validate malformed.toml
 stderr_has "malformed.toml:2"
@@ -108,6 +132,38 @@ grep -q "peak memory about" stdout.txt && pass "estimate printed" || fail "no es
 expect_exit 2 "run larger than the memory limit" -- bash -c "ulimit -v 2000000; exec \"$CAVESIM\" run huge.toml --out o13 -q"
 stderr_has "this process may use"
 [ ! -e o13 ] && pass "no output for the refused run" || fail "o13 was created"
+# Geology and recharge that cannot be: a fracture family that cannot fit, recharge outside the land
+# surface. Each names file, line, key and value, and writes nothing.
+cat good.toml > frac_long.toml
+cat >> frac_long.toml <<'TOML'
+[[rock.fracture_family]]
+dip = 80.0
+min_length = 40.0
+max_length = 60.0
+TOML
+expect_exit 2 "fracture longer than the block" -- "$CAVESIM" run frac_long.toml --out o14
+stderr_has "frac_long.toml:21: key 'rock.fracture_family.min_length' = 40: the fracture family cannot fit"
+[ ! -e o14 ] && pass "no output for a fracture family that cannot fit" || fail "o14 was created"
+sed 's/^min_length = 40.0/min_length = 2.0\nspacing = 30.0/' frac_long.toml > frac_sparse.toml
+expect_exit 2 "fracture spacing larger than the block" -- "$CAVESIM" validate frac_sparse.toml
+stderr_has "key 'rock.fracture_family.spacing' = 30: the fracture family cannot fit"
+sed 's/^min_length = 40.0/kappa = 0.0/' frac_long.toml > frac_kappa.toml
+expect_exit 2 "fracture kappa zero" -- "$CAVESIM" validate frac_kappa.toml
+stderr_has "key 'rock.fracture_family.kappa' = 0.0: must be a number in (0,"
+grep -v -e '^\[\[source\]\]' -e '^at = ' good.toml > recharge_out.toml
+cat >> recharge_out.toml <<'TOML'
+[[recharge]]
+kind = "sinkholes"
+area = [0, 0, 20, 0]
+count = 2
+TOML
+expect_exit 2 "recharge outside the land surface" -- "$CAVESIM" run recharge_out.toml --out o15
+stderr_has "key 'recharge.area' = [0, 0, 20, 0]: recharge outside the land surface"
+[ ! -e o15 ] && pass "no output for recharge outside the land surface" || fail "o15 was created"
+sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0, 0.0, 11.0], [18.0, 0.0, 11.0]]/' \
+  recharge_out.toml > stream_out.toml
+expect_exit 2 "stream outside the block" -- "$CAVESIM" validate stream_out.toml
+stderr_has "key 'recharge.points' = [[1, 0, 11], [18, 0, 11]]: recharge outside the land surface"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"

@@ -30,6 +30,27 @@ for k, (lo, hi) in ranges.items():
 assert r["mesh"]["closed"] and r["mesh"]["manifold"]
 PY
 done
+# The pattern and the cross-sections (docs/geology.md): every key there, a known class, the section
+# table's classes in order, each passage's class among them, and the picture of the sections.
+python3 - fig10/report.json <<'PY' && pass "fig10: pattern and cross-sections in report.json" || fail "fig10: pattern or cross-sections"
+import json, sys
+r = json.load(open(sys.argv[1]))
+p = r["pattern"]
+print("fig10 pattern", p["class"], "|", p["rule"])
+assert p["class"] in ("branchwork", "network maze", "anastomotic maze", "spongework", "ramiform", "single passage")
+for k in ("length_m", "branches", "loops", "loops_per_km", "loops_per_branch", "junctions", "junction_degree_mean",
+          "dead_ends", "dead_end_share", "orientation_entropy", "orthogonal_share", "orthogonal_azimuth_deg",
+          "family_share", "slab_thickness_m", "bed_share", "vertical_spread_m", "plan_coverage", "width_cv"):
+    assert k in p["criteria"], k
+assert p["criteria"]["loops"] == r["graph_metrics"]["loops"]
+x = r["cross_sections"]
+assert [s["class"] for s in x["summary"]] == ["tube", "canyon", "keyhole", "other", "short"]
+assert len(x["passages"]) == r["graph_metrics"]["branches"] and x["stations"] > 0
+assert all(q["class"] in ("tube", "canyon", "keyhole", "other", "short") for q in x["passages"])
+assert sum(s["passages"] for s in x["summary"]) == len(x["passages"])
+PY
+[ -s fig10/images/sections.png ] && pass "fig10: images/sections.png" || fail "fig10: no images/sections.png"
+grep -q "^## Cave pattern" fig10/report.md && grep -q "^## Cross-sections" fig10/report.md && pass "fig10: report.md pattern and sections" || fail "fig10: report.md lacks the pattern or sections"
 for fig in fig10 fig11 fig12; do
   for seed in 1 2 3; do
     expect_exit 0 "$fig seed $seed runs" -- "$CAVESIM" run "$SRC/scenarios/$fig.toml" --seed $seed --out $fig-$seed -q --formats none

@@ -33,7 +33,9 @@ sed -e 's/^iterations = 30/iterations = 100000/' -e 's/^size = \[16, 1, 12\]/siz
 for sig in TERM INT; do
   "$CAVESIM" run long.toml --out res -j1 >stdout.txt 2>stderr.txt &
   pid=$!
-  for _ in $(seq 1 100); do grep -q "stage 2" stderr.txt && break; sleep 0.1; done
+  # Signal only once stage 2 runs: earlier, a slow start (a sanitizer build on a busy machine) may
+  # still have SIGINT ignored, as a background job inherits it, and the run would not see it.
+  for _ in $(seq 1 1200); do grep -q "stage 2" stderr.txt && break; sleep 0.1; done
   kill -s "$sig" "$pid"
   wait "$pid"
   got=$?

@@ -80,3 +80,20 @@ PY
     diff -rq -x report.json -x report.md -x report.html "$a/members/$m" "$b/members/$m" >/dev/null || return 1
   done
 }
+# same_report_figures A B: the two report.json files agree but for the timings and thread count.
+same_report_figures() {
+  python3 - "$1" "$2" <<'PY'
+import json, sys
+def strip(r):
+    r.pop("timing_s", None); r.pop("threads", None)
+    def walk(x):
+        if isinstance(x, dict):
+            return {k: walk(v) for k, v in x.items() if not k.startswith("seconds")}
+        if isinstance(x, list):
+            return [walk(v) for v in x]
+        return x
+    return walk(r)
+a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
+assert a == b
+PY
+}

@@ -14,7 +14,7 @@ done
 grep -q 'src="data:model/gltf-binary;base64,' fig10/report.html && pass "cave.glb embedded" || fail "cave.glb not embedded"
 grep -q '<script src="report_files/model-viewer-umd.min.js">' fig10/report.html && pass "viewer linked" \
   || fail "viewer not linked"
-for f in map_plan.png map_extended_elevation.png perspective.png; do
+for f in map_plan.png map_extended_elevation.png perspective.png sections.png; do
   grep -q "images/$f" fig10/report.html && pass "$f in the page" || fail "$f not in the page"
 done
 # Without the viewer (setup not run): no script, a note saying why.

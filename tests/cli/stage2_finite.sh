@@ -16,7 +16,9 @@ def walk(x, where):
     elif isinstance(x, list):
         for i, v in enumerate(x): walk(v, f"{where}[{i}]")
     elif x is None:
-        assert where == "stage2.breakthrough_iteration" or where.startswith("stage2.source_connected_iteration["), where
+        # none yet: no breakthrough, or no centreline to measure against the protochannels
+        assert where in ("stage2.breakthrough_iteration", "stage2.near_protochannels.centreline_share") or \
+            where.startswith("stage2.source_connected_iteration["), where
     elif isinstance(x, (int, float)) and not isinstance(x, bool):
         assert math.isfinite(x), f"{where} = {x}"
 walk(s2, "stage2")

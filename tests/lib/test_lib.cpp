@@ -106,7 +106,9 @@ TEST(Lib, EveryRegistryKeyIsSettableByItsName) {
             v = s.get(key);
         } catch (const cavesim::InputError&) {
             // only a table of arrays the default leaves empty has no value
-            EXPECT_TRUE(key == "rock.plane" || key == "rock.channel" || key == "rock.sphere" || key == "site.horizon")
+            EXPECT_TRUE(key == "rock.plane" || key == "rock.channel" || key == "rock.sphere" || key == "site.horizon" ||
+                        key == "rock.inception_horizon" || key == "rock.fracture_family" || key == "recharge" ||
+                        key == "phase")
                 << key;
             continue;
         }

@@ -434,6 +434,30 @@ TEST(GraphMetrics, EmptyAndSingleNode) {
     EXPECT_DOUBLE_EQ(*dot.cpd, 0.0);
 }
 
+/// A star of `leaves` one-metre arms: `leaves` branches.
+Skeleton star(int leaves) {
+    std::vector<std::array<double, 3>> pos{{0, 0, 0}};
+    std::vector<std::array<int, 2>> edges;
+    for (int l = 0; l < leaves; ++l) {
+        const double a = 2 * kPi * l / leaves;
+        pos.push_back({std::cos(a), std::sin(a), 0});
+        edges.push_back({0, l + 1});
+    }
+    return makeSkeleton(pos, edges);
+}
+
+TEST(GraphMetrics, FewerThanTenBranchesIsTooSmallForNetworkStatistics) {
+    const GraphMetrics nine = computeGraphMetrics(star(9));
+    EXPECT_EQ(nine.branches, 9);
+    EXPECT_TRUE(nine.too_small);
+    EXPECT_TRUE(toJson(nine)["too_small"].get<bool>());
+    const GraphMetrics ten = computeGraphMetrics(star(10));
+    EXPECT_EQ(ten.branches, 10);
+    EXPECT_FALSE(ten.too_small);
+    EXPECT_FALSE(toJson(ten)["too_small"].get<bool>());
+    EXPECT_TRUE(computeGraphMetrics(Skeleton{}).too_small);
+}
+
 TEST(GraphMetrics, JsonHasTheDesignKeysAndNullForUndefined) {
     const nlohmann::json j = toJson(computeGraphMetrics(line()));
     for (const char* key : {"k_mean", "r_k", "spl", "cpd", "h_or", "len_mean_m", "cv_len", "h_len", "tortuosity"})

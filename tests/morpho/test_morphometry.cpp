@@ -82,16 +82,73 @@ TEST(Morphometry, LShapedTubeRectangleVersusConvexHull) {
     EXPECT_NEAR(m.a_field_rect_m2, 100.0, kTol);
     // Hull of the corners: (0,0) (5,0) (5,1) (1,5) (0,5). Shoelace: 0 + 5 + (25 − 1) + 5 + 0 = 34 →
     // 17 cells (= 25 minus the triangle (5,1) (5,5) (1,5) of area 8) = 68 m².
-    EXPECT_NEAR(m.a_field_opt_m2, 68.0, kTol);
+    EXPECT_NEAR(m.a_field_hull_m2, 68.0, kTol);
     EXPECT_NEAR(m.v_block_rect_m3, 400.0, kTol);
-    EXPECT_NEAR(m.v_block_opt_m3, 272.0, kTol);
+    EXPECT_NEAR(m.v_block_hull_m3, 272.0, kTol);
     EXPECT_NEAR(m.network_density_rect, 18.0 / 100.0, kTol);
-    EXPECT_NEAR(m.network_density_opt, 18.0 / 68.0, kTol);
+    EXPECT_NEAR(m.network_density_hull, 18.0 / 68.0, kTol);
     EXPECT_NEAR(m.areal_coverage_pct_rect, 36.0, kTol);
-    EXPECT_NEAR(m.areal_coverage_pct_opt, 100.0 * 36.0 / 68.0, kTol);
+    EXPECT_NEAR(m.areal_coverage_pct_hull, 100.0 * 36.0 / 68.0, kTol);
     EXPECT_NEAR(m.porosity_pct_rect, 36.0, kTol);  // 144 / 400
-    EXPECT_NEAR(m.porosity_pct_opt, 100.0 * 144.0 / 272.0, kTol);
+    EXPECT_NEAR(m.porosity_pct_hull, 100.0 * 144.0 / 272.0, kTol);
+    // Optimised field: spacing 68 / 18 m, margin 68 / 36 = 1.89 m = 0.94 cells: no cell centre
+    // beyond the plan is that close, so the field is the plan itself (9 cells).
+    EXPECT_NEAR(m.passage_spacing_m, 68.0 / 18.0, kTol);
+    EXPECT_NEAR(m.field_margin_m, 68.0 / 36.0, kTol);
+    EXPECT_NEAR(m.a_field_opt_m2, 36.0, kTol);
+    EXPECT_NEAR(m.areal_coverage_pct_opt, 100.0, kTol);
+    EXPECT_NEAR(m.porosity_pct_opt, 100.0, kTol);
     EXPECT_NEAR(m.mean_width_m, 2.0, kTol);  // 36 / 18 = h
+}
+
+TEST(Morphometry, OptimisedFieldOfALShapedPlanWithAMarginOfOneDiagonal) {
+    // h = 1 m, one layer. Plan: column i = 1, j = 1..10 and row j = 1, i = 1..10 (19 cells); the
+    // centreline (1.5, 10.5) → (1.5, 1.5) → (10.5, 1.5) is 18 m long.
+    Grid3<std::uint8_t> mask(Dims{12, 12, 1}, 0);
+    for (int t = 1; t <= 10; ++t) mask.at(1, t, 0) = mask.at(t, 1, 0) = 1;
+    const Skeleton s = polyline({{1.5, 10.5, 0.5}, {1.5, 1.5, 0.5}, {10.5, 1.5, 0.5}});
+    const Morphometry m = computeMorphometry(mask, s, 1.0);
+    EXPECT_EQ(m.plan_cells, 19);
+    EXPECT_NEAR(m.a_field_rect_m2, 100.0, kTol);
+    // Hull (1,1) (11,1) (11,2) (2,11) (1,11): shoelace 2·area = 10 + 99 + 10 = 119 (rectangle
+    // minus the triangle (11,2) (11,11) (2,11) of 40.5) → 59.5 m².
+    EXPECT_NEAR(m.a_field_hull_m2, 59.5, kTol);
+    // Margin 59.5 / 36 = 1.65 cells: centres at distance 1 and √2 from the plan join it, 2 does not.
+    // Dilated plan: columns i = 0..2 along the arm j, rows j = 0..2 along the arm i. Inside the
+    // hull (x ≥ 1, y ≥ 1, x ≤ 11, y ≤ 11, x + y ≤ 13): i = 1, 2 for j = 1..10 (20 cells) and
+    // j = 1, 2 for i = 3..10 (16 cells; (10, 2) has its centre on the hull's edge x + y = 13).
+    EXPECT_NEAR(m.field_margin_m, 59.5 / 36.0, kTol);
+    EXPECT_NEAR(m.a_field_opt_m2, 36.0, kTol);
+    EXPECT_NEAR(m.areal_coverage_pct_opt, 100.0 * 19.0 / 36.0, kTol);
+    EXPECT_NEAR(m.network_density_opt, 18.0 / 36.0, kTol);
+    EXPECT_NEAR(m.a_field_rect_m2 / m.a_field_opt_m2, 100.0 / 36.0, kTol);
+}
+
+TEST(Morphometry, CentrelineAndBlockNearMarkedVoxels) {
+    // 10×1×1 row of voxels, voxel 0 marked: within 2 voxels lie voxels 0, 1, 2 (3 of 10). A
+    // centreline along the row, nodes on voxels 0..9 one metre apart: edges 0–1 and 1–2 near at
+    // both ends (2 m), edge 2–3 at one end (0.5 m); 2.5 of 9 m.
+    Grid3<std::uint8_t> marked(Dims{10, 1, 1}, 0);
+    marked[0] = 1;
+    Skeleton s;
+    for (int i = 0; i < 10; ++i) {
+        s.nodes.push_back({{i + 0.5, 0.5, 0.5}, 0.5, std::size_t(i)});
+        if (i > 0) s.edges.push_back({i - 1, i});
+    }
+    const NearMarked n = nearMarked(s, marked, 2.0);
+    EXPECT_EQ(n.block_voxels, 10);
+    EXPECT_EQ(n.block_voxels_near, 3);
+    ASSERT_TRUE(n.block_share.has_value());
+    EXPECT_NEAR(*n.block_share, 0.3, kTol);
+    EXPECT_NEAR(n.length_m, 9.0, kTol);
+    EXPECT_NEAR(n.length_near_m, 2.5, kTol);
+    ASSERT_TRUE(n.centreline_share.has_value());
+    EXPECT_NEAR(*n.centreline_share, 2.5 / 9.0, kTol);
+    // In 3D the ball of radius 2 holds 33 voxels (1 + 6 + 12 + 8 + 6).
+    Grid3<std::uint8_t> cube(Dims{7, 7, 7}, 0);
+    cube.at(3, 3, 3) = 1;
+    EXPECT_EQ(nearMarked(Skeleton{}, cube, 2.0).block_voxels_near, 33);
+    EXPECT_FALSE(nearMarked(Skeleton{}, cube, 2.0).centreline_share.has_value());
 }
 
 TEST(Morphometry, VerticalShaftInATwoDimensionalSection) {
@@ -166,7 +223,7 @@ TEST(Morphometry, JsonHasTheDesignKeys) {
                             "v_block_opt_m3", "network_density_opt", "network_density_rect", "areal_coverage_pct_opt",
                             "areal_coverage_pct_rect", "porosity_pct_opt", "porosity_pct_rect", "mean_width_m"})
         EXPECT_TRUE(j.contains(key) && j[key].is_number()) << key;
-    EXPECT_EQ(j["field_opt_method"].get<std::string>(), std::string("convex_hull"));
+    EXPECT_EQ(j["field_opt_method"].get<std::string>(), std::string("plan_margin_in_hull"));
     EXPECT_NEAR(j["length_m"].get<double>(), 2 * std::sqrt(2.0), kTol);
 }
 

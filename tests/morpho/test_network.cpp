@@ -85,7 +85,75 @@ TEST(Network, StraightDescendingChannelHasNoLoop) {
     EXPECT_EQ(c.confluences, 0);
     EXPECT_EQ(c.tributaryCaptures, 0);
     EXPECT_TRUE(c.paths[0].downhill);
+    EXPECT_FALSE(c.paths[0].fallback);
+    EXPECT_EQ(c.fallbackPaths, 0);
     EXPECT_EQ(c.paths[0].sink, 0);
+    // The descent runs from the source's neighbour (3, 17) down the channel to (30, 2), next to the sink.
+    ASSERT_EQ(c.paths[0].voxels.size(), 28u);
+    EXPECT_EQ(c.paths[0].voxels.front(), s.dims.index(3, 0, 17));
+    EXPECT_EQ(c.paths[0].voxels.back(), s.dims.index(30, 0, 2));
+    EXPECT_EQ(c.paths[0].nodes.size(), 28u);
+}
+
+TEST(Network, DescentTakesTheSteepestDropPerUnitLengthThroughCaveVoxels) {
+    // P = 10 i + 3 j + k on a 5×5×5 block of cave. From (4, 4, 4) the drops per unit length are
+    // 10 along −i, 13/√2 = 9.2 along (−i, −j), 14/√3 = 8.1 along (−i, −j, −k): the descent runs
+    // along −i to i = 0, then along −j (3 against 4/√2 = 2.8), then along −k: 13 voxels.
+    const Dims d{5, 5, 5};
+    Grid3<std::uint8_t> cave(d, 1);
+    Grid3<float> pressure(d, 0.f);
+    for (int k = 0; k < 5; ++k)
+        for (int j = 0; j < 5; ++j)
+            for (int i = 0; i < 5; ++i) pressure.at(i, j, k) = float(10 * i + 3 * j + k);
+    std::vector<char> exit(d.count(), 0);
+    exit[d.index(0, 0, 0)] = 1;
+    Descent a = descendPressure(cave, pressure, d.index(4, 4, 4), exit);
+    EXPECT_TRUE(a.reachedExit);
+    std::vector<std::size_t> expected;
+    for (int i = 4; i >= 0; --i) expected.push_back(d.index(i, 4, 4));
+    for (int j = 3; j >= 0; --j) expected.push_back(d.index(0, j, 4));
+    for (int k = 3; k >= 0; --k) expected.push_back(d.index(0, 0, k));
+    EXPECT_EQ(a.voxels, expected);
+
+    // Rock at (3, 4, 4): the next steepest step, (−i, −j), is taken instead.
+    cave.at(3, 4, 4) = 0;
+    a = descendPressure(cave, pressure, d.index(4, 4, 4), exit);
+    ASSERT_GE(a.voxels.size(), 2u);
+    EXPECT_EQ(a.voxels[1], d.index(3, 3, 4));
+    EXPECT_TRUE(a.reachedExit);
+
+    // No exit: the descent stops in the pit at the origin.
+    const std::vector<char> none(d.count(), 0);
+    a = descendPressure(cave, pressure, d.index(4, 4, 4), none);
+    EXPECT_FALSE(a.reachedExit);
+    EXPECT_EQ(a.voxels.back(), d.index(0, 0, 0));
+}
+
+TEST(Network, LoopOnTheSharedPartOfTwoPathsCountsOnce) {
+    // Source 0 feeds a channel that falls from z 17 to 5, rises to 7 and runs to the sink (one
+    // loop); source 1's channel joins it at (3, 11), above the trough. Both paths pass the trough.
+    Section s;
+    s.source(2, 18);
+    s.channel(
+        Section::join(Section::join(Section::line(3, 17, 3, 5), Section::line(3, 5, 5, 7)), Section::line(5, 7, 30, 7)),
+        60);  // (3, 11) has 54
+    s.sink(31, 7);
+    s.source(10, 18);
+    s.channel(Section::line(10, 17, 4, 11), 70);  // (4, 11) has 64
+    s.edge(s.node(4, 11), s.node(3, 11));
+    s.input.connectedIteration = {std::optional<int>(10), std::optional<int>(20)};
+    const NetworkCounts c = s.run();
+    EXPECT_EQ(c.sourcesConnected, 2);
+    EXPECT_EQ(c.fallbackPaths, 0);
+    ASSERT_EQ(c.paths[0].loopTroughs.size(), 1u);
+    ASSERT_EQ(c.paths[1].loopTroughs.size(), 1u);
+    EXPECT_EQ(c.paths[0].loopTroughs[0], c.paths[1].loopTroughs[0]);
+    EXPECT_EQ(s.dims.coord(s.skeleton.nodes[std::size_t(c.paths[0].loopTroughs[0])].voxel).k, 5);
+    EXPECT_EQ(c.phreaticLoops, 1);
+    EXPECT_EQ(c.confluences, 1);
+    EXPECT_EQ(c.tributaryCaptures, 1);
+    ASSERT_TRUE(c.paths[1].joinNode.has_value());
+    EXPECT_EQ(s.skeleton.nodes[std::size_t(*c.paths[1].joinNode)].voxel, s.dims.index(3, 0, 11));
 }
 
 TEST(Network, DescentThenRiseOfTwoIsOneLoopAndOfOneIsNone) {
@@ -117,9 +185,9 @@ TEST(Network, TwoLoopsInSequenceCountTwice) {
     Section s;
     s.source(1, 18);
     auto pts = Section::line(2, 17, 2, 10);
-    pts = Section::join(pts, Section::line(2, 10, 5, 13));   // rise 3
-    pts = Section::join(pts, Section::line(5, 13, 9, 9));    // descent
-    pts = Section::join(pts, Section::line(9, 9, 12, 12));   // rise 3
+    pts = Section::join(pts, Section::line(2, 10, 5, 13));  // rise 3
+    pts = Section::join(pts, Section::line(5, 13, 9, 9));   // descent
+    pts = Section::join(pts, Section::line(9, 9, 12, 12));  // rise 3
     pts = Section::join(pts, Section::line(12, 12, 30, 12));
     s.channel(pts, 80);
     s.sink(31, 12);
@@ -128,10 +196,10 @@ TEST(Network, TwoLoopsInSequenceCountTwice) {
 
 TEST(Network, LaterChannelJoiningAnEarlierOneIsACapture) {
     Section s;
-    s.source(5, 18);   // source 0: main channel straight to the sink
-    s.source(25, 18);  // source 1: joins the main channel from above
-    s.channel(Section::line(5, 17, 5, 3), 100);   // pressure 100 .. 86
-    s.channel(Section::line(6, 3, 35, 3), 85);    // 85 .. 56; (25, 3) has 66
+    s.source(5, 18);                             // source 0: main channel straight to the sink
+    s.source(25, 18);                            // source 1: joins the main channel from above
+    s.channel(Section::line(5, 17, 5, 3), 100);  // pressure 100 .. 86
+    s.channel(Section::line(6, 3, 35, 3), 85);   // 85 .. 56; (25, 3) has 66
     s.edge(s.node(5, 3), s.node(6, 3));
     s.channel(Section::line(25, 17, 25, 4), 100);  // 100 .. 87, then down into the main channel
     s.edge(s.node(25, 4), s.node(25, 3));
@@ -181,6 +249,11 @@ TEST(Network, UphillOnlyPathIsStillConnectedButMarked) {
     const NetworkCounts c = s.run();
     EXPECT_EQ(c.sourcesConnected, 1);
     EXPECT_FALSE(c.paths[0].downhill);
+    // The descent is stuck at the source end: the path is the fallback.
+    EXPECT_TRUE(c.paths[0].fallback);
+    EXPECT_EQ(c.fallbackPaths, 1);
+    EXPECT_TRUE(c.paths[0].voxels.empty());
+    EXPECT_EQ(toJson(c, s.skeleton)["fallback_fraction"], 1.0);
 }
 
 TEST(Network, ElevationsComeFromSmoothedPositionsWhenTheVoxelSizeIsGiven) {
@@ -188,9 +261,9 @@ TEST(Network, ElevationsComeFromSmoothedPositionsWhenTheVoxelSizeIsGiven) {
     // has pulled the nodes of the step toward the line (the step is 1.5 high): no loop.
     Section s;
     s.source(2, 18);
-    s.channel(Section::join(Section::join(Section::line(3, 17, 3, 5), Section::line(3, 5, 5, 7)),
-                            Section::line(5, 7, 30, 7)),
-              60);
+    s.channel(
+        Section::join(Section::join(Section::line(3, 17, 3, 5), Section::line(3, 5, 5, 7)), Section::line(5, 7, 30, 7)),
+        60);
     s.sink(31, 7);
     EXPECT_EQ(s.run().phreaticLoops, 1);
     for (auto& n : s.skeleton.nodes) {

@@ -510,3 +510,49 @@ TEST(Stage1, AimInsideOrNextToASinkIsRefused) {
     }
     EXPECT_NO_THROW(parseScenarioString(base + "sink_gap = 1\naim = [[25, 10, 3]]\n", "test.toml"));
 }
+
+TEST(Stage1, LargeZoneNetworkIsTheNeighbourhoodOfItsSource) {
+    // One source in the middle of uniform rock (no noise): the zone is the whole 24 × 24 × 12 block,
+    // the network its 1,000 voxels the front reached first — a ball around the source, bent only
+    // by the porosity (uniform here).
+    const std::string base = header("ball", 24, 24, 12) + "[rock]\nporosity = 0.1\n[[source]]\nat = [12, 12, 6]\n";
+    const Stage1Run whole = runText(base + "[stage1]\nboundary_faces = []\n" + kNoStage2);
+    const Stage1Run r = runText(base + "[stage1]\nnetwork_voxels = 1000\nboundary_faces = []\n" + kNoStage2);
+    ASSERT_EQ(r.result.zones, 1);
+    EXPECT_EQ(r.result.zoneVoxels[0], 24 * 24 * 12);   // the zone itself is not cut
+    EXPECT_EQ(whole.result.perZone[0].protosinks, 0);  // no boundary faces, no other zone: no protosinks
+    const ZoneStats& z = r.result.perZone[0];
+    // At most 1,000 voxels, more only on arrival-time ties at the cut.
+    EXPECT_GE(z.graphNodes, 1000);
+    EXPECT_LE(z.graphNodes, 1100);
+    // The neighbourhood's edge drains: protosinks there, flow and protochannels rooted at the source.
+    EXPECT_GT(z.protosinks, 0);
+    EXPECT_GT(z.maxFlow, 0.0);
+    EXPECT_GT(r.result.protochannelVoxels, 0);
+    expectTreesInsideZones(r.domain);
+    // Every protochannel voxel lies within the ball: about (3·1000 / 4π)^(1/3) ≈ 6.2 voxels of the source.
+    for (std::size_t v = 0; v < r.domain.flags.size(); ++v) {
+        if (!(r.domain.flags[v] & kProtochannel)) continue;
+        const Index3 p = r.domain.dims.coord(v);
+        const double dist =
+            std::sqrt(double((p.i - 12) * (p.i - 12) + (p.j - 12) * (p.j - 12) + (p.k - 6) * (p.k - 6)));
+        EXPECT_LE(dist, 8.0) << "voxel " << v;
+    }
+    // The zone labels are the zone's again after the neighbourhood's edge was found.
+    for (std::int32_t label : r.domain.zone.data) EXPECT_EQ(label, 0);
+}
+
+TEST(Stage1, NetworkLargerThanTheLimitIsRefusedEvenWithinTheNeighbourhood) {
+    const std::string text = header("big", 20, 20, 10) +
+                             "[[source]]\nat = [5, 5, 5]\n[stage1]\nmax_graph_voxels = 1000\nnetwork_voxels = 2000\n" +
+                             kNoStage2;
+    try {
+        runText(text);
+        FAIL() << "no error";
+    } catch (const Stage1LimitError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("flow network of source 1"), std::string::npos) << m;
+        EXPECT_NE(m.find("2,000 voxels"), std::string::npos) << m;
+        EXPECT_NE(m.find("limit of 1,000"), std::string::npos) << m;
+    }
+}

@@ -205,3 +205,77 @@ TEST(Stage2, IncrementalConnectivityEqualsTheFullSearchEveryIteration) {
     for (std::size_t i = 0; i < full.size(); ++i) EXPECT_EQ(full[i], r.history[i].sourcesConnected) << i;
     EXPECT_EQ(full.back(), 2);
 }
+
+// Base-level phases under a falling water table: water is conserved every iteration, the second
+// phase grows cave at its lower table below the first level (a shaft cuts down to it), and the terminals' flags are as
+// given when the run returns (an inactive sink is only switched off for its phase).
+TEST(Stage2, PhasesConserveWaterAndGrowALowerLevel) {
+    const Scenario s = parseScenarioString(R"(name = "levels"
+seed = 4
+[domain]
+size = [48, 1, 30]
+[rock]
+porosity = 0.05
+[[source]]
+at = [8, 0, 29]
+[[sink]]
+box = [[47, 0, 19], [47, 0, 21]]
+[[sink]]
+box = [[47, 0, 4], [47, 0, 6]]
+[stage1]
+enabled = false
+[stage2]
+p_rate = 0.05
+p_rate_channel = 0.001
+[[phase]]
+iterations = 150
+water_table = 20
+sinks = [1]
+[[phase]]
+iterations = 150
+water_table = 5
+sinks = [2]
+)",
+                                           "levels.toml");
+    Domain d = prepared(s);
+    const Grid3<std::uint8_t> flagsBefore = d.flags;
+    const Stage2Result r = runStage2(d, s.stage2);
+    EXPECT_EQ(r.iterations, 300);
+    EXPECT_LT(r.waterBalanceRelError, 1e-12);
+    for (const auto& h : r.history) EXPECT_LT(h.balanceError, 1e-12 * (1 + h.injected + h.stored));
+    ASSERT_EQ(r.phases.size(), 2u);
+    const Stage2PhaseRecord &a = r.phases[0], &b = r.phases[1];
+    EXPECT_EQ(a.sinks, std::vector<int>{1});
+    EXPECT_EQ(b.sinks, std::vector<int>{2});
+    EXPECT_EQ(b.firstIteration, 151);
+    ASSERT_TRUE(a.breakthroughIteration.has_value());
+    ASSERT_TRUE(a.breakthroughIteration.has_value());  // the upper spring is reached in phase 1
+    EXPECT_LE(*a.breakthroughIteration, 150);
+    EXPECT_GE(a.belowLo[2], 17);  // phase 1's phreatic cave lies at its table
+    EXPECT_LE(a.aboveHi[2], 29);
+    EXPECT_GT(b.caveBelow, 5);  // phase 2 grows cave at its own table, below the first level
+    EXPECT_LE(b.belowHi[2], 5);
+    EXPECT_LE(b.aboveLo[2], 7);  // the shaft cut down through the abandoned level to the new table
+    for (const auto& sink : d.sinkVoxels)
+        for (std::size_t v : sink) EXPECT_EQ(d.flags[v] & (kSink | kInert), flagsBefore[v] & (kSink | kInert));
+}
+
+// A site's water table (`[hydrology] from_site`, per column in index units) that is level at 20 grows
+// exactly the cave of the plane `water_table = 20`.
+TEST(Stage2, SiteWaterTableActsAsTheSamePlane) {
+    Scenario s = parseScenarioString(kTwoChannels, "two.toml");
+    s.stage2.hydrology.waterTable = 20;
+    Domain plane = prepared(s);
+    const Stage2Result a = runStage2(plane, s.stage2);
+    s.stage2.hydrology.waterTable = -1;
+    s.stage2.hydrology.fromSite = true;
+    Domain site = prepared(s);
+    site.siteWaterTable.assign(std::size_t(site.dims.nx) * std::size_t(site.dims.ny), 20.0);
+    const Stage2Result b = runStage2(site, s.stage2);
+    ASSERT_EQ(b.phases.size(), 1u);
+    EXPECT_TRUE(b.phases[0].fromSite);
+    EXPECT_EQ(a.phases[0].caveAbove, b.phases[0].caveAbove);
+    EXPECT_GT(a.phases[0].caveAbove, 0);
+    EXPECT_EQ(plane.flags.data, site.flags.data);
+    EXPECT_EQ(plane.porosity.data, site.porosity.data);
+}

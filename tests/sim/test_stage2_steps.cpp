@@ -395,3 +395,91 @@ TEST(Stage2Steps, IncrementalReachEqualsTheFullSearch) {
     EXPECT_EQ(connectedSources(d), std::vector<bool>{true});
     for (std::size_t v = 0; v < 6; ++v) EXPECT_TRUE(st.reached[v]) << v;
 }
+
+// ---- Water table and gravity (docs/model.md, "Water table and gravity") -------------------------
+
+// A level table is the same height in every column; a table dipping 45° towards +x (dip direction
+// 90°) falls one voxel per voxel of x, through `level` at the centre column x = 2.
+TEST(Stage2Steps, WaterTableIsAPlaneThroughTheCentreColumn) {
+    Hydrology h;
+    const std::vector<double> level = waterTableColumns(Dims{5, 3, 4}, h, 2.5);
+    ASSERT_EQ(level.size(), 15u);
+    for (double z : level) EXPECT_EQ(z, 2.5);
+    h.dip = 45;
+    h.dipDirection = 90;
+    const std::vector<double> dip = waterTableColumns(Dims{5, 1, 4}, h, 2.0);
+    for (int i = 0; i < 5; ++i) EXPECT_NEAR(dip[std::size_t(i)], 2.0 - (i - 2), 1e-12);
+    EXPECT_TRUE(isVadose(Dims{5, 1, 4}, dip, 4, 0, 1));   // table at 0 there
+    EXPECT_FALSE(isVadose(Dims{5, 1, 4}, dip, 0, 0, 3));  // table at 4 there
+}
+
+// The potential: P below the table; above it cap + p_rate · (k − table) + lateral · P.
+TEST(Stage2Steps, VadosePotentialIsHeightAboveTheTable) {
+    const Dims d{1, 1, 4};
+    Grid3<double> P(d, 0.0), phi(d, 0.0);
+    for (int k = 0; k < 4; ++k) P[std::size_t(k)] = 0.1 * (k + 1);
+    Stage2Options g;
+    g.pRate = 0.5;
+    g.hydrology.lateral = 0.1;
+    Stage2State st(d);
+    const std::vector<double> table = waterTableColumns(d, g.hydrology, 1.5);
+    gravityPotential(P, table, 10.0, g, st, true, phi);
+    EXPECT_EQ(phi[0], 0.1);
+    EXPECT_EQ(phi[1], 0.2);
+    EXPECT_NEAR(phi[2], 10.0 + 0.5 * 0.5 + 0.1 * 0.3, 1e-12);
+    EXPECT_NEAR(phi[3], 10.0 + 0.5 * 1.5 + 0.1 * 0.4, 1e-12);
+}
+
+namespace {
+
+/// A vertical 3 × 1 × 3 section (x, z), porosity 0.5, uniform pressure 0, table at z = 0: the two
+/// upper rows are vadose. Water `w` in voxel (i, 0, k); one transport step on the gravity potential.
+struct VadoseSection {
+    Domain dom = emptyDomain(Dims{3, 1, 3}, 1.0, 0.5f);
+    Stage2State st{dom.dims};
+    Grid3<double> P{dom.dims, 0.0}, phi{dom.dims, 0.0};
+    Stage2Options g;
+    VadoseSection(int i, int k, double w) {
+        g.pRate = 0.5;
+        g.hydrology.lateral = 0.1;
+        st.water[dom.dims.index(i, 0, k)] = w;
+        activateAll(st);
+        gravityPotential(P, waterTableColumns(dom.dims, g.hydrology, 0.0), 10.0, g, st, true, phi);
+        computeOffers(dom, phi, TransportWeight::kProportional, st);
+        computeAcceptance(dom, phi, TransportWeight::kProportional, st);
+        moveWater(dom, phi, TransportWeight::kProportional, st);
+    }
+    double water(int i, int k) const { return st.water[dom.dims.index(i, 0, k)]; }
+    double total() const {
+        double s = 0;
+        for (double x : st.water) s += x;
+        return s;
+    }
+};
+
+}  // namespace
+
+// Water in the top middle voxel goes only down: straight down with weight 0.5 (Δφ = p_rate · 1,
+// distance 1), down-diagonally with 0.5/√2 each; level neighbours (Δφ = 0) and nothing above get
+// nothing. Shares total 0.5 > W = 0.3, so all 0.3 leaves: 0.3 · 0.5 / (0.5 + 2 · 0.5/√2) below.
+TEST(Stage2Steps, VadoseWaterMovesDownNotUp) {
+    const VadoseSection s(1, 2, 0.3);
+    const double norm = 0.5 + 2 * 0.5 / std::sqrt(2.0);
+    EXPECT_NEAR(s.water(1, 1), 0.3 * 0.5 / norm, 1e-12);
+    EXPECT_NEAR(s.water(0, 1), 0.3 * (0.5 / std::sqrt(2.0)) / norm, 1e-12);
+    EXPECT_NEAR(s.water(2, 1), s.water(0, 1), 1e-15);  // mirror symmetric
+    EXPECT_NEAR(s.water(1, 2), 0.0, 1e-15);            // all of it left (to round-off)
+    EXPECT_EQ(s.water(0, 2), 0.0);                     // no sideways flow on a level floor at uniform pressure
+    EXPECT_EQ(s.water(2, 2), 0.0);
+    EXPECT_EQ(s.water(1, 0), 0.0);       // one voxel per iteration
+    EXPECT_NEAR(s.total(), 0.3, 1e-15);  // conserved
+    // From the middle row the water goes down into the phreatic row, never up into the vadose one.
+    const VadoseSection m(1, 1, 0.3);
+    EXPECT_EQ(m.water(0, 2) + m.water(1, 2) + m.water(2, 2), 0.0);
+    EXPECT_GT(m.water(1, 0), m.water(0, 0));
+    EXPECT_NEAR(m.total(), 0.3, 1e-15);
+    // Phreatic water (bottom row, uniform pressure) cannot rise into the vadose zone: it stays.
+    const VadoseSection b(1, 0, 0.3);
+    EXPECT_EQ(b.water(1, 0), 0.3);
+    EXPECT_EQ(b.total(), 0.3);
+}

@@ -226,3 +226,18 @@ TEST_F(SiteTest, NoSiteFilesChangeNothing) {
     EXPECT_FALSE(s.siteData);
     EXPECT_TRUE(site::gdalAvailable());
 }
+
+// A site's water table reaches the domain in voxel index units: elevation 160 m is
+// (160 − 100) / 10 − 0.5 = 5.5, between the centres of voxels 5 (155 m) and 6 (165 m).
+TEST_F(SiteTest, WaterTableReachesTheDomainInIndexUnits) {
+    Scenario s = scenario();
+    s.site.waterTable = text("wt_level.xyz",
+                             "499990 3999990 160\n500100 3999990 160\n499990 4000080 160\n"
+                             "500100 4000080 160\n");
+    site::loadSite(s);
+    ASSERT_TRUE(s.siteData);
+    Rng rng(1);
+    const Domain d = buildDomain(s, rng);
+    ASSERT_EQ(d.siteWaterTable.size(), 48u);
+    for (double z : d.siteWaterTable) EXPECT_NEAR(z, 5.5, 1e-9);
+}

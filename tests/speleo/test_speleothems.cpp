@@ -42,34 +42,34 @@ double distanceToProfile(double rho, double z, const Protuberance& p) {
     return best;
 }
 
-DecorationField room(const std::vector<Protuberance>& ps, double h = kH) {
-    return fieldFromFunction({-kL - 4 * h, -kL - 4 * h, -kZ - 4 * h}, {kL + 4 * h, kL + 4 * h, 4 * h}, h,
-                             [&](const Vec3d& x) {
-                                 // Rock above the ceiling surface; the signed distance to it.
-                                 double surfaceZ = 0;
-                                 double d = 1e9;
-                                 const Protuberance* near = nullptr;
-                                 for (const Protuberance& p : ps) {
-                                     const double rho = std::hypot(x[0] - p.x0, x[1] - p.y0);
-                                     if (rho < 1.5 * p.baseRadius) {
-                                         surfaceZ = std::min(surfaceZ, -p.depth(rho));
-                                         near = &p;
-                                     }
-                                 }
-                                 double ceiling;
-                                 if (near == nullptr) {
-                                     ceiling = x[2];
-                                 } else {
-                                     d = std::abs(x[2]);
-                                     for (const Protuberance& p : ps) {
-                                         const double rho = std::hypot(x[0] - p.x0, x[1] - p.y0);
-                                         d = std::min(d, distanceToProfile(rho, x[2], p));
-                                     }
-                                     ceiling = x[2] > surfaceZ ? d : -d;
-                                 }
-                                 const double walls = std::max({std::abs(x[0]) - kL, std::abs(x[1]) - kL, -kZ - x[2]});
-                                 return std::max(ceiling, walls);
-                             });
+DecorationField room(const std::vector<Protuberance>& ps, double h = kH, double depth = kZ) {
+    return fieldFromFunction(
+        {-kL - 4 * h, -kL - 4 * h, -depth - 4 * h}, {kL + 4 * h, kL + 4 * h, 4 * h}, h, [&](const Vec3d& x) {
+            // Rock above the ceiling surface; the signed distance to it.
+            double surfaceZ = 0;
+            double d = 1e9;
+            const Protuberance* near = nullptr;
+            for (const Protuberance& p : ps) {
+                const double rho = std::hypot(x[0] - p.x0, x[1] - p.y0);
+                if (rho < 1.5 * p.baseRadius) {
+                    surfaceZ = std::min(surfaceZ, -p.depth(rho));
+                    near = &p;
+                }
+            }
+            double ceiling;
+            if (near == nullptr) {
+                ceiling = x[2];
+            } else {
+                d = std::abs(x[2]);
+                for (const Protuberance& p : ps) {
+                    const double rho = std::hypot(x[0] - p.x0, x[1] - p.y0);
+                    d = std::min(d, distanceToProfile(rho, x[2], p));
+                }
+                ceiling = x[2] > surfaceZ ? d : -d;
+            }
+            const double walls = std::max({std::abs(x[0]) - kL, std::abs(x[1]) - kL, -depth - x[2]});
+            return std::max(ceiling, walls);
+        });
 }
 
 Protuberance cone(double radius, double height, double x0 = 0, double y0 = 0) {
@@ -93,8 +93,8 @@ SpeleothemOptions testOptions() {
 }
 
 /// z of the rock surface on the vertical line (x, y), searched upward from the floor's air.
-double surfaceOnAxis(const DecorationField& f, double x, double y) {
-    double lo = -kZ + 0.01, hi = 0.0;
+double surfaceOnAxis(const DecorationField& f, double x, double y, double depth = kZ) {
+    double lo = -depth + 0.01, hi = 0.0;
     for (double z = lo; z <= 0.005; z += 0.5 * kH) {
         if (f.distance({x, y, z}) >= 0) {
             hi = z;
@@ -125,42 +125,6 @@ double radiusAt(const DecorationField& f, double x, double y, double z) {
     return sum / 4;
 }
 
-/// Shape against Short's asymptotic profile ζ = A·ρ^(4/3) (ζ the height above the tip, ρ the
-/// radius), over the lowest `window` metres: the exponent β of the best power law ρ = c·ζ^β
-/// (Short: 3/4) and the RMS misfit of the best ρ = (ζ/A)^(3/4), relative to the largest radius.
-struct ShapeFit {
-    double beta = 0, error = 0, tipZ = 0;
-};
-ShapeFit fitShape(const DecorationField& f, double window) {
-    ShapeFit s;
-    s.tipZ = surfaceOnAxis(f, 0, 0);
-    window = std::min(window, -0.9 * s.tipZ);
-    std::vector<double> lz, lr, zeta, rho;
-    for (int i = 1; i <= 16; ++i) {
-        const double z = window * i / 16.0;
-        const double r = radiusAt(f, 0, 0, s.tipZ + z);
-        if (r < 4 * kH) continue;  // the fitted tip (two voxels) and its ring: not Short's far field
-        zeta.push_back(z), rho.push_back(r);
-        lz.push_back(std::log(z)), lr.push_back(std::log(r));
-    }
-    const double n = double(lz.size());
-    double mz = 0, mr = 0;
-    for (std::size_t i = 0; i < lz.size(); ++i) mz += lz[i] / n, mr += lr[i] / n;
-    double szz = 0, szr = 0;
-    for (std::size_t i = 0; i < lz.size(); ++i) szz += (lz[i] - mz) * (lz[i] - mz), szr += (lz[i] - mz) * (lr[i] - mr);
-    s.beta = szr / szz;
-    // Best A for the fixed exponent 3/4 (least squares in log space), then the misfit in metres.
-    const double logC = mr - 0.75 * mz;
-    double e2 = 0, rmax = 0;
-    for (std::size_t i = 0; i < zeta.size(); ++i) {
-        const double fit = std::exp(logC) * std::pow(zeta[i], 0.75);
-        e2 += (rho[i] - fit) * (rho[i] - fit) / n;
-        rmax = std::max(rmax, rho[i]);
-    }
-    s.error = std::sqrt(e2) / rmax;
-    return s;
-}
-
 TEST(Speleothems, ConeOnFlatCeilingIsOneStalactiteAtItsTip) {
     const DecorationField f = room({cone(0.015, 0.03)});
     const std::vector<Stalactite> st = findStalactites(f, testOptions());
@@ -186,45 +150,115 @@ TEST(Speleothems, WaterFilledCaveGrowsNothing) {
     o.drained = false;
     o.years = 100;
     const double before = surfaceOnAxis(f, 0, 0);
+    const DecorationField original = f;
     grow(f, o);
     EXPECT_EQ(surfaceOnAxis(f, 0, 0), before);
+    // Nothing grew: the cone is a convex patch, not a speleothem.
+    std::vector<Stalactite> st = findStalactites(f, testOptions());
+    ASSERT_EQ(st.size(), 1u);
+    measureGrowth(original, st);
+    EXPECT_EQ(st[0].grownLength, 0.0);
 }
 
-struct Growth {
-    double rateMmPerYear;  // tip descent over the run
-    ShapeFit start, end;
-};
-
-Growth growFor(const Protuberance& p, double years) {
+/// Tip descent of a protuberance over `years`, mm/yr.
+double tipRate(const Protuberance& p, double years) {
     DecorationField f = room({p});
     SpeleothemOptions o = testOptions();
     o.years = years;
-    Growth g;
-    g.start = fitShape(f, 1.0);
+    const double before = surfaceOnAxis(f, 0, 0);
     grow(f, o);
-    g.end = fitShape(f, 1.0);
-    g.rateMmPerYear = (g.start.tipZ - g.end.tipZ) * 1000.0 / years;
-    return g;
+    return (before - surfaceOnAxis(f, 0, 0)) * 1000.0 / years;
 }
 
-TEST(Speleothems, ConesAndParaboloidsGrowAtNaturalRatesNarrowFasterAndTendToShortsShape) {
-    const double years = 400;
-    const Growth narrowCone = growFor(cone(0.012, 0.03), years);
-    const Growth wideCone = growFor(cone(0.03, 0.015), years);
-    const Growth narrowPara = growFor(paraboloid(0.012, 0.03), years);
-    const Growth widePara = growFor(paraboloid(0.03, 0.015), years);
-    for (const Growth* g : {&narrowCone, &wideCone, &narrowPara, &widePara}) {
-        std::printf("tip %.4f -> %.4f rate %.4f mm/yr  beta %.3f -> %.3f  error %.4f -> %.4f\n", g->start.tipZ,
-                    g->end.tipZ, g->rateMmPerYear, g->start.beta, g->end.beta, g->start.error, g->end.error);
+TEST(Speleothems, ConesAndParaboloidsLengthenAtTheLawsTipSpeed) {
+    // Natural parameters (l_Q = 0.1 mm, α = 1/yr) on 2 mm voxels: every tip moves down at Short's
+    // c = α·l_Q = 0.1 mm/yr whatever the protuberance's width (Short et al.: the tip speed of the
+    // law does not depend on the shape; the paper's narrow-faster observation, which its authors
+    // trace to their tip remeshing, is not reproduced: docs/speleothems.md).
+    const SpeleothemOptions o = testOptions();
+    const double c = o.alpha * o.lQ * 1000.0;
+    for (const Protuberance& p :
+         {cone(0.012, 0.03), cone(0.03, 0.015), paraboloid(0.012, 0.03), paraboloid(0.03, 0.015)}) {
+        const double rate = tipRate(p, 400);
+        std::printf("tip descent %.4f mm/yr (c = %.4f)\n", rate, c);
         // Natural stalactites lengthen at ~0.1 mm/yr (Short et al. 2005): within a factor of ten.
-        EXPECT_GT(g->rateMmPerYear, 0.01);
-        EXPECT_LT(g->rateMmPerYear, 1.0);
+        EXPECT_GT(rate, 0.01);
+        EXPECT_LT(rate, 1.0);
+        EXPECT_NEAR(rate, c, 0.15 * c);
     }
-    EXPECT_GT(narrowCone.rateMmPerYear, wideCone.rateMmPerYear);
-    EXPECT_GT(narrowPara.rateMmPerYear, widePara.rateMmPerYear);
-    // The shape against Short's asymptotic profile is printed above (exponent and misfit); over
-    // these 400 years it does not converge yet: the fitted tip makes the lowest centimetres a
-    // column of the tip's radius (docs/speleothems.md, limits).
+}
+
+/// Short's platonic profile, the steady shape of the law translating down at the tip speed
+/// c = α·l_Q: c·cos θ = α·l_Q·(l_Q/(r·sin θ))^(1/3) gives r·sin θ·cos³θ = l_Q. In units of l_Q,
+/// with p = tan θ = dζ/dρ: ρ·p/(1 + p²)² = 1, whose steep branch (p ≥ 1/√3) exists for
+/// ρ ≥ ρ_min = 16/(3√3) ≈ 3.08; inside ρ_min, where the law's speed is floored at α·l_Q, only
+/// θ = 0 translates at c: a flat tip. Far up ζ → (3/4)·ρ^(4/3), Short's asymptote.
+/// Returns the radius (metres) at height ζ (metres) above the tip; `eps` is l_Q (metres).
+double asymptoticRadius(double zeta, double eps) {
+    const double rhoMin = 16.0 / (3.0 * std::sqrt(3.0));
+    const auto slope = [](double rho) {  // steep root of p/(1+p²)² = 1/ρ
+        double lo = 1.0 / std::sqrt(3.0), hi = 1e3;
+        for (int i = 0; i < 80; ++i) {
+            const double m = 0.5 * (lo + hi);
+            (m / ((1 + m * m) * (1 + m * m)) > 1.0 / rho ? lo : hi) = m;
+        }
+        return 0.5 * (lo + hi);
+    };
+    const double target = zeta / eps;
+    double rho = rhoMin, z = 0;
+    const double d = 1e-3;
+    while (z < target) {  // midpoint rule in ρ
+        const double p = slope(rho + 0.5 * d);
+        if (z + p * d >= target) return (rho + (target - z) / p) * eps;
+        z += p * d;
+        rho += d;
+    }
+    return rho * eps;
+}
+
+/// RMS difference (metres) between the grown radius and the asymptotic one at heights ζ above
+/// the tip in [zLo, zHi] (aligned at the tip, both axes through x = y = 0).
+double profileError(const DecorationField& f, double eps, double zLo, double zHi, double depth) {
+    const double tip = surfaceOnAxis(f, 0, 0, depth);
+    double e2 = 0;
+    constexpr int kN = 14;
+    for (int i = 0; i < kN; ++i) {
+        const double zeta = zLo + (zHi - zLo) * i / (kN - 1);
+        const double d = radiusAt(f, 0, 0, tip + zeta) - asymptoticRadius(zeta, eps);
+        e2 += d * d / kN;
+    }
+    return std::sqrt(e2);
+}
+
+TEST(Speleothems, ConeAndParaboloidConvergeToTheAsymptoticProfile) {
+    // The law is scale free in units of l_Q and 1/α; here l_Q = the tip radius = one voxel (2 mm)
+    // so the profile's own tip scale (ρ_min ≈ 3 l_Q) is resolved, and α = 0.05/yr keeps
+    // c = α·l_Q = 0.1 mm/yr.
+    constexpr double kDepth = 0.13;
+    const double eps = kH;
+    for (const Protuberance& p : {cone(0.012, 0.03), paraboloid(0.012, 0.03)}) {
+        DecorationField f = room({p}, kH, kDepth);
+        SpeleothemOptions o = testOptions();
+        o.lQ = eps;
+        o.tipRadius = eps;
+        o.alpha = 0.05;
+        o.years = 100;
+        std::vector<double> err{profileError(f, eps, 0.004, 0.03, kDepth)};
+        const double tip0 = surfaceOnAxis(f, 0, 0, kDepth);
+        for (int k = 0; k < 5; ++k) {
+            grow(f, o);
+            err.push_back(profileError(f, eps, 0.004, 0.03, kDepth));
+        }
+        const double descent = tip0 - surfaceOnAxis(f, 0, 0, kDepth);
+        std::printf("descent %.1f mm in 500 yr; profile error (mm):", descent * 1000);
+        for (double e : err) std::printf(" %.2f", e * 1000);
+        std::printf("\n");
+        // The tip moves at c: 50 mm in 500 years (the level set rounds a cone's sharp apex: ~10 % less).
+        EXPECT_NEAR(descent, 0.05, 0.15 * 0.05);
+        EXPECT_LT(err.back(), 0.7 * err.front());  // a drop of at least 30 %
+        for (std::size_t k = 1; k < err.size(); ++k)
+            EXPECT_LT(err[k], err[k - 1] + 0.5 * kH);  // falls, to within a quarter voxel per checkpoint
+    }
 }
 
 TEST(Speleothems, MeshStaysClosedAndManifoldAfterGrowth) {
@@ -244,17 +278,51 @@ TEST(Speleothems, MeshStaysClosedAndManifoldAfterGrowth) {
     EXPECT_GT(f.distance({0, 0, -kZ + 0.003}), floorBefore);
 }
 
-TEST(Speleothems, NeighbouringStalactitesGrowTogether) {
-    // Two cones 28 mm apart: their facing walls close in on the air between them.
-    DecorationField f = room({cone(0.012, 0.03, -0.014, 0), cone(0.012, 0.03, 0.014, 0)});
+/// Connected pieces (4-connected) of rock in the horizontal slice at height z, sampled every
+/// half voxel, away from the room's walls.
+int rockPiecesAt(const DecorationField& f, double z) {
+    const double step = 0.5 * kH, half = kL - 2 * kH;
+    const int n = int(2 * half / step) + 1;
+    std::vector<int> rock(std::size_t(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            rock[std::size_t(j) * n + i] = f.distance({-half + i * step, -half + j * step, z}) >= 0;
+    int pieces = 0;
+    std::vector<int> stack;
+    for (std::size_t start = 0; start < rock.size(); ++start) {
+        if (rock[start] != 1) continue;
+        ++pieces;
+        rock[start] = 2;
+        stack.assign(1, int(start));
+        while (!stack.empty()) {
+            const int q = stack.back(), i = q % n, j = q / n;
+            stack.pop_back();
+            const int next[4][2] = {{i + 1, j}, {i - 1, j}, {i, j + 1}, {i, j - 1}};
+            for (const auto& c : next) {
+                if (c[0] < 0 || c[1] < 0 || c[0] >= n || c[1] >= n) continue;
+                int& r = rock[std::size_t(c[1]) * n + c[0]];
+                if (r == 1) r = 2, stack.push_back(c[1] * n + c[0]);
+            }
+        }
+    }
+    return pieces;
+}
+
+TEST(Speleothems, CloseStalactitesMergeFarOnesStayApart) {
+    // Four cones (radius 12 mm, 30 mm long): a pair 20 mm apart (axes), whose walls 10 mm below
+    // the ceiling are 4 mm apart, and two more 40 mm from every other (gaps there of 24 mm).
+    DecorationField f = room({cone(0.012, 0.03, -0.01, -0.02), cone(0.012, 0.03, 0.01, -0.02),
+                              cone(0.012, 0.03, -0.02, 0.02), cone(0.012, 0.03, 0.02, 0.02)});
     SpeleothemOptions o = testOptions();
-    EXPECT_EQ(findStalactites(f, o).size(), 2u);
-    const Vec3d gap{0, 0, -0.008};
-    const double before = -f.distance(gap);  // air between them, 8 mm below the ceiling
-    EXPECT_GT(before, 0.004);
-    o.years = 900;
+    EXPECT_EQ(findStalactites(f, o).size(), 4u);
+    const double z = -0.010;
+    EXPECT_EQ(rockPiecesAt(f, z), 4);
+    o.years = 300;
     grow(f, o);
-    EXPECT_LT(-f.distance(gap), 0.25 * before);  // the gap closed to within a quarter
+    EXPECT_EQ(rockPiecesAt(f, z), 3);             // the close pair joined
+    EXPECT_GE(f.distance({0, -0.02, z}), 0.0);    // rock between them now
+    EXPECT_LT(f.distance({0, 0.02, z}), -kH);     // the far pair: still air between them
+    EXPECT_LT(f.distance({-0.02, 0.0, z}), -kH);  // and between the pairs
 }
 
 TEST(Speleothems, RandomCeilingGrowsFromItsLocalMinima) {

@@ -1,0 +1,45 @@
+/// @file recharge.h
+/// @brief Recharge (`[[recharge]]`): sinkholes, diffuse inputs and sinking streams on the land
+/// surface, expanded into ordinary sources before stage 1.
+///
+/// Not in Pytel & Mann (2015), whose sources are placed by hand; the patterns it allows are those
+/// karst geomorphology ties to recharge (Palmer 1991): point recharge through sinkholes, diffuse
+/// recharge over an area, a sinking stream. Each entry becomes `SourceSpec`s in the block's top
+/// layer (z = nz − 1, the land surface), after the scenario's `[[source]]` entries, so stages,
+/// report and files see only sources. Positions are voxel (index) units. Random choices (where
+/// the sinkholes are, where a diffuse input sits in its cell) come from an engine of their own per
+/// entry, seeded from the scenario seed and the entry's index; the run's `Rng` is not touched.
+#pragma once
+
+#include <vector>
+
+#include "sim/scenario.h"
+
+namespace cavesim {
+
+/// The sources of every `[[recharge]]` entry of `scenario`, entry by entry, each with the entry's
+/// line (docs/geology.md, "Recharge"):
+/// - sinkholes: `count` columns of `area` drawn without replacement (a seeded shuffle), each at
+///   least 2·radius + 1 columns (Chebyshev) from the ones taken before; each a box of
+///   (2·radius + 1)² columns and radius + 1 layers under the top face, of `pressure`;
+/// - diffuse: `area` cut into cells of `spacing` columns (the last ones shorter); one one-voxel
+///   input per cell at a seeded column of it, each of `pressure` / the number of cells;
+/// - stream: one one-voxel input every `spacing` voxels of arc length along `points` from the
+///   first point (the voxel nearest the point; repeats dropped), each of `pressure` / their number.
+/// `perEntry`, when given, receives the number of sources of each entry.
+/// @throw InputError when sinkholes do not fit in their area (validateRecharge says so first)
+std::vector<SourceSpec> rechargeSources(const Scenario& scenario, std::vector<std::size_t>* perEntry = nullptr);
+
+/// Checks every `[[recharge]]` entry against the block: an area inside the top face, `points`
+/// only and at least two for a stream and inside the block, sinkholes that fit, at most 256
+/// sources with the `[[source]]` entries, no input on a sink, no `[site] dem`.
+/// @throw InputError naming the file, the entry's line, the key, its value and what is allowed
+void validateRecharge(const Scenario& scenario);
+
+/// Checks every `[[rock.fracture_family]]` entry against the block (sim/fractures.h): min_length
+/// ≤ max_length, min_length and spacing at most the block's longest side, exactly one of spacing and
+/// density, between 1 and 10⁶ discs.
+/// @throw InputError naming the file, the entry's line, the key, its value and what is allowed
+void validateFractureFamilies(const Scenario& scenario);
+
+}  // namespace cavesim

@@ -1,0 +1,82 @@
+// The checkpoint file of a run (app/checkpoint.h): what is written reads back the same, and a cut,
+// changed or foreign file is refused with an InputError naming it, never a crash.
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "app/checkpoint.h"
+#include "core/error.h"
+
+using namespace cavesim;
+using namespace cavesim::app;
+
+namespace {
+
+Checkpoint sample() {
+    Checkpoint c;
+    c.scenarioPath = "scenarios/x.toml";
+    c.scenarioText = "name = \"x\"\n";
+    c.seed = "12";
+    c.formats = "all";
+    c.meshStyle = MeshStyle::kVoxel;
+    c.force = true;
+    c.every = 25;
+    c.scenarioHash = 0x1234567890abcdefull;
+    c.domainHash = 42;
+    c.iteration = 50;
+    c.files = {{"images/iter_0010.png", std::string("\x89PNG\0\1", 6)}};
+    render::Image f(3, 2);
+    f.pixels[4] = 7;
+    c.frames = {f};
+    c.stage2 = std::string(100000, '\3') + "end";
+    return c;
+}
+
+}  // namespace
+
+TEST(Checkpoint, ReadsBackWhatWasWritten) {
+    const Checkpoint c = sample();
+    const std::string bytes = encodeCheckpoint(c);
+    const Checkpoint d = decodeCheckpoint(bytes, "ck");
+    EXPECT_EQ(d.scenarioPath, c.scenarioPath);
+    EXPECT_EQ(d.scenarioText, c.scenarioText);
+    EXPECT_EQ(d.seed, c.seed);
+    EXPECT_EQ(d.formats, c.formats);
+    EXPECT_EQ(d.meshStyle, c.meshStyle);
+    EXPECT_EQ(d.meshNormals, c.meshNormals);
+    EXPECT_EQ(d.force, c.force);
+    EXPECT_EQ(d.every, c.every);
+    EXPECT_EQ(d.scenarioHash, c.scenarioHash);
+    EXPECT_EQ(d.domainHash, c.domainHash);
+    EXPECT_EQ(d.iteration, c.iteration);
+    EXPECT_EQ(d.files, c.files);
+    ASSERT_EQ(d.frames.size(), 1u);
+    EXPECT_EQ(d.frames[0].width, 3);
+    EXPECT_EQ(d.frames[0].pixels, c.frames[0].pixels);
+    EXPECT_EQ(d.stage2, c.stage2);
+    EXPECT_EQ(encodeCheckpoint(d), bytes);  // save → load → save: the same bytes
+}
+
+TEST(Checkpoint, CutChangedOrForeignFilesAreRefused) {
+    const std::string bytes = encodeCheckpoint(sample());
+    for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 200)
+        EXPECT_THROW(decodeCheckpoint(bytes.substr(0, n), "cut"), InputError) << n;
+    for (std::size_t at = 0; at < bytes.size(); at += 1 + bytes.size() / 200) {
+        std::string bad = bytes;
+        bad[at] = char(bad[at] ^ 0x20);
+        EXPECT_THROW(decodeCheckpoint(bad, "changed"), InputError) << at;
+    }
+    EXPECT_THROW(decodeCheckpoint("", "empty"), InputError);
+    EXPECT_THROW(decodeCheckpoint(std::string(64, 'x'), "foreign"), InputError);
+    try {
+        decodeCheckpoint(bytes.substr(0, bytes.size() / 2), "dir/.x.checkpoint/checkpoint.cavesim");
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("dir/.x.checkpoint/checkpoint.cavesim"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Checkpoint, FolderBesideTheTarget) {
+    EXPECT_EQ(checkpointDir("/a/b/out").string(), "/a/b/.out.checkpoint");
+    EXPECT_EQ(checkpointDir("/a/b/out/").string(), "/a/b/.out.checkpoint");
+}
