@@ -190,160 +190,297 @@ std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
     return offset;
 }
 
-/// Calls fn(r, n) for each neighbour r of voxel q inside the grid, n its `allNeighbours()` slot.
+/// Calls fn(r, n) for each neighbour r of voxel q inside the grid, n its `allNeighbours()` slot;
+/// `onFace` says q lies on a face of the block (else no bounds checks are needed).
 template <typename Fn>
-inline void forEachNeighbour(const Dims& d, const std::array<std::ptrdiff_t, 26>& offset, std::size_t q, Fn&& fn) {
-    const Index3 p = d.coord(q);
-    if (p.i > 0 && p.j > 0 && p.k > 0 && p.i + 1 < d.nx && p.j + 1 < d.ny && p.k + 1 < d.nz) {
+inline void forEachNeighbour(const Dims& d, const std::array<std::ptrdiff_t, 26>& offset, std::size_t q, bool onFace,
+                             Fn&& fn) {
+    if (!onFace) {
         for (std::size_t n = 0; n < 26; ++n) fn(std::size_t(std::ptrdiff_t(q) + offset[n]), n);
         return;
     }
+    const Index3 p = d.coord(q);
     for (std::size_t n = 0; n < 26; ++n) {
         const NeighbourOffset& o = allNeighbours()[n];
         if (d.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) fn(std::size_t(std::ptrdiff_t(q) + offset[n]), n);
     }
 }
 
-/// Held voxels below this count take their heavy steps on the calling thread.
-constexpr std::size_t kParallelHeld = 4096;
+/// Per-voxel flags of the bucket-queue sweep (`EikonalField::flags_`).
+constexpr std::uint8_t kLightNear = 1;  ///< the voxel may have a light step (0: certainly none)
+constexpr std::uint8_t kSeed = 2;       ///< a seed: holds its value
+constexpr std::uint8_t kOnFace = 4;     ///< on a face of the block: some neighbours lie outside
 
-/// The avalanche sweep (kAvalanche26) on the bucket queue with its **heavy steps batched**, the
-/// same values and the same count of changed voxels as `relax`, bit for bit, on any number of
-/// threads. A step into voxel r costs slowness(r) · |step|; a step is *heavy* when that is at
-/// least `heavy` and *light* otherwise. A popped voxel takes its light steps at once (in bucket
-/// order, as `relax` does) and holds its heavy steps back: they lower values to at least
-/// (its value + heavy), so they can wait until the sweep reaches that value. Then all held voxels
-/// take their heavy steps together, in parallel: each lowering is an atomic minimum, and a
-/// voxel's final value is the minimum over the same candidate values whatever the order. With
-/// `heavy` the rock's rate, a batch holds every voxel of the front within one rock step — the whole
-/// shell the front crosses — while the few light steps along channels stay in bucket order.
-/// `lightNear[q]` is 1 where q may have a light step (0 only if it certainly has none).
-std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
-                         double heavy, const std::vector<std::uint8_t>& lightNear, Grid3<double>& value,
-                         BucketQueue& queue, std::vector<std::uint8_t>* touched, std::vector<std::size_t>* touchedList,
-                         double limit) {
-    std::size_t changes = 0;
+/// Sets kLightNear on every neighbour q of voxel c that has a light step into c.
+void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, std::size_t c,
+                   std::vector<std::uint8_t>& flags) {
     const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
-    const auto lower = [&](std::size_t r, double u) {
-        if (u < value[r]) {
-            value[r] = u;
-            queue.push({u, r});
-            if (touched && !(*touched)[r]) {
-                (*touched)[r] = 1;
-                if (touchedList) touchedList->push_back(r);
-                ++changes;
-            }
-        }
-    };
-    std::vector<HeapEntry> held;  // popped (value, voxel) whose heavy steps wait
-    double heldMin = kInf;
-    const std::size_t last = queue.q.bucket.size() - 1;
-
-    // One held voxel's heavy steps on one thread.
-    const auto heavySerial = [&](const HeapEntry& e) {
-        const double v = e.first;
-        forEachNeighbour(d, offset, e.second, [&](std::size_t r, std::size_t n) {
-            if (seed[r] || value[r] <= v) return;
-            const double c = double(slowness[r]) * allNeighbours()[n].length;
-            if (c >= heavy) lower(r, std::min(cap, v + c));
-        });
-    };
-    struct Local {
-        std::vector<HeapEntry> lowered;
-        std::vector<std::size_t> firstTouched;
-    };
-    tbb::enumerable_thread_specific<Local> locals;
-    const std::size_t workers =
-        std::min<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()),
-                              tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    const auto flush = [&] {
-        if (held.size() < kParallelHeld || workers < 2) {
-            for (const HeapEntry& e : held)
-                if (e.first == value[e.second]) heavySerial(e);
-        } else {
-            double* val = value.data.data();
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, held.size(), 512),
-                              [&](const tbb::blocked_range<std::size_t>& range) {
-                                  Local& local = locals.local();
-                                  for (std::size_t h = range.begin(); h != range.end(); ++h) {
-                                      const double v = held[h].first;
-                                      // A held voxel lowered again since it was popped is held again.
-                                      double now;
-                                      __atomic_load(val + held[h].second, &now, __ATOMIC_RELAXED);
-                                      if (v != now) continue;
-                                      forEachNeighbour(d, offset, held[h].second, [&](std::size_t r, std::size_t n) {
-                                          if (seed[r]) return;
-                                          double cur;
-                                          __atomic_load(val + r, &cur, __ATOMIC_RELAXED);
-                                          if (cur <= v) return;
-                                          const double c = double(slowness[r]) * allNeighbours()[n].length;
-                                          if (c < heavy) return;
-                                          double u = std::min(cap, v + c);
-                                          while (u < cur) {
-                                              if (__atomic_compare_exchange(val + r, &cur, &u, false, __ATOMIC_RELAXED,
-                                                                            __ATOMIC_RELAXED)) {
-                                                  local.lowered.push_back({u, r});
-                                                  if (touched && !__atomic_exchange_n(&(*touched)[r], std::uint8_t(1),
-                                                                                      __ATOMIC_RELAXED))
-                                                      local.firstTouched.push_back(r);
-                                                  break;
-                                              }
-                                          }
-                                      });
-                                  }
-                              });
-            // Into the queue: only the entries still current (the others are stale already).
-            for (Local& local : locals) {
-                for (const HeapEntry& e : local.lowered)
-                    if (e.first == value[e.second]) queue.push(e);
-                changes += local.firstTouched.size();
-                if (touchedList)
-                    touchedList->insert(touchedList->end(), local.firstTouched.begin(), local.firstTouched.end());
-                local.lowered.clear();
-                local.firstTouched.clear();
-            }
-        }
-        held.clear();
-        heldMin = kInf;
-    };
-
-    for (;;) {
-        if (queue.empty() || queue.bound() > limit) {
-            if (held.empty()) break;
-            flush();  // may refill buckets at or below the limit
-            continue;
-        }
-        // A held step lowers to at least fl(heldMin + heavy) (rounding is monotone), which lies in
-        // a bucket above the one about to be popped unless `index` says otherwise: then the held
-        // steps go first. The last bucket holds all values beyond it, in any order.
-        if (!held.empty() && (queue.index(heldMin + heavy) <= queue.q.lowest || queue.q.lowest == last)) {
-            flush();
-            continue;
-        }
-        const HeapEntry e = queue.top();
-        queue.pop();
-        const double v = e.first;
-        const std::size_t q = e.second;
-        if (v != value[q]) continue;  // stale entry
-        if (lightNear[q])
-            forEachNeighbour(d, offset, q, [&](std::size_t r, std::size_t n) {
-                if (seed[r] || value[r] <= v) return;
-                const double c = double(slowness[r]) * allNeighbours()[n].length;
-                if (c < heavy) lower(r, std::min(cap, v + c));
-            });
-        held.push_back(e);
-        heldMin = std::min(heldMin, v);
-    }
-    return changes;
+    forEachNeighbour(d, offset, c, (flags[c] & kOnFace) != 0, [&](std::size_t q, std::size_t n) {
+        if (double(slowness[c]) * allNeighbours()[n].length < heavy) flags[q] |= kLightNear;
+    });
 }
 
-/// Sets lightNear[q] for every neighbour q of voxel c that has a light step into c.
-void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, std::size_t c,
-                   std::vector<std::uint8_t>& lightNear) {
+/// The flags of every voxel; `heavy` = the largest slowness.
+void buildFlags(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double heavy,
+                std::vector<std::uint8_t>& flags) {
+    flags.assign(d.count(), 0);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                const std::size_t c = d.index(i, j, k);
+                if (i == 0 || j == 0 || k == 0 || i + 1 == d.nx || j + 1 == d.ny || k + 1 == d.nz) flags[c] |= kOnFace;
+                if (seed[c]) flags[c] |= kSeed;
+            }
+    for (std::size_t c = 0; c < d.count(); ++c)
+        if (double(slowness[c]) * std::sqrt(3.0) < heavy) markLightNear(d, slowness, heavy, c, flags);
+}
+
+/// Buckets per window: a heavy step from a value in a window's first bucket lands beyond the
+/// window (one bucket is left for the rounding of the sum and of the bucket index).
+std::size_t windowSpan(double heavy, double width) {
+    const double s = std::floor(heavy / width) - 1.0;
+    return s >= 1.0 ? std::size_t(std::min(s, double(1 << 22))) : 1;
+}
+
+/// Sorts entries by voxel index (LSD radix sort, 11 bits a pass): the heavy steps of a batch then
+/// walk the grid in memory order.
+void sortByVoxel(std::vector<HeapEntry>& a, std::vector<HeapEntry>& tmp, std::size_t voxels) {
+    if (a.size() < 512) {
+        std::sort(a.begin(), a.end(), [](const HeapEntry& x, const HeapEntry& y) { return x.second < y.second; });
+        return;
+    }
+    int bits = 1;
+    while (bits < 64 && (std::size_t(1) << bits) < voxels) ++bits;
+    tmp.resize(a.size());
+    constexpr int kBits = 11;
+    for (int shift = 0; shift < bits; shift += kBits) {
+        std::array<std::size_t, (1 << kBits) + 1> count{};
+        for (const HeapEntry& e : a) ++count[((e.second >> shift) & ((1 << kBits) - 1)) + 1];
+        for (std::size_t b = 1; b < count.size(); ++b) count[b] += count[b - 1];
+        for (const HeapEntry& e : a) tmp[count[(e.second >> shift) & ((1 << kBits) - 1)]++] = e;
+        a.swap(tmp);
+    }
+}
+
+/// Held batches below this count take their heavy steps on the calling thread.
+constexpr std::size_t kParallelHeld = 4096;
+
+/// The avalanche sweep (kAvalanche26) on the bucket queue with its **heavy steps batched**: the
+/// same values and the same count of changed voxels as `relax`, bit for bit, on any number of
+/// threads. A step into voxel r costs slowness(r) · |step|; a step is *heavy* when that is at
+/// least `heavy` (the rock's rate) and *light* otherwise. A heavy step from value v lowers to at
+/// least v + heavy, beyond the *window* of `span` buckets that holds v; so the sweep goes a window
+/// at a time: first the voxels that may have light steps, popped in bucket order (the `Buckets`),
+/// taking their light steps at once, as `relax` does; then the heavy steps of all the window's
+/// voxels together — those popped and every entry of voxels without light steps, which wait in
+/// the window's lists (`Windows`) without being ordered — sorted by voxel index and in parallel:
+/// each lowering is an atomic minimum, and a voxel's final value is the minimum over the same
+/// candidate values whatever the order. A sweep limited to buckets up to the limit takes exactly
+/// the entries `relax` would pop. Where a value still lands in a window already swept (only when a
+/// step's rounding or a light step of a voxel whose flags changed puts it there) the sweep goes
+/// back to that window: it stays label-correcting, so the values are the same.
+std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap, double heavy,
+                         const std::vector<std::uint8_t>& flags, Grid3<double>& value, EikonalField::Buckets& fine,
+                         EikonalField::Windows& win, std::vector<std::uint8_t>* touched,
+                         std::vector<std::size_t>* touchedList, double limit) {
+    BucketQueue queue{fine};
+    const std::size_t nb = fine.bucket.size();
+    const std::size_t span = win.span;
+    const std::size_t nw = (nb + span - 1) / span;
+    const std::size_t slots = std::max<std::size_t>(1, std::size_t(tbb::this_task_arena::max_concurrency()));
+    if (win.slot.size() < slots) win.slot.resize(slots);
+    for (auto& s : win.slot)
+        if (s.size() != nw) s.resize(nw);
+    const std::size_t workers =
+        std::min<std::size_t>(slots, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
-    forEachNeighbour(d, offset, c, [&](std::size_t q, std::size_t n) {
-        if (double(slowness[c]) * allNeighbours()[n].length < heavy) lightNear[q] = 1;
-    });
+    std::array<double, 26> length{};
+    for (std::size_t n = 0; n < 26; ++n) length[n] = allNeighbours()[n].length;
+    const float* slow = slowness.data.data();
+    const std::uint8_t* flag = flags.data();
+    double* val = value.data.data();
+    std::size_t changes = 0;
+
+    // Pushes from the calling thread: voxels with light steps into the buckets, others into their window.
+    const auto push = [&](double u, std::size_t r) {
+        if (flag[r] & kLightNear) {
+            queue.push({u, r});
+            return;
+        }
+        const std::size_t w = queue.index(u) / span;
+        win.slot[0][w].push_back({u, r});
+        win.lowest = std::min(win.lowest, w);
+        ++win.count;
+    };
+    const auto touch = [&](std::size_t r) {
+        if (touched && !(*touched)[r]) {
+            (*touched)[r] = 1;
+            if (touchedList) touchedList->push_back(r);
+            ++changes;
+        }
+    };
+    struct Slot {
+        std::vector<HeapEntry> light;  // lowered voxels with light steps (into the buckets afterwards)
+        std::vector<std::size_t> firstTouched;
+        std::size_t pushed = 0;  // entries put into this slot's windows
+        std::size_t lowest = std::numeric_limits<std::size_t>::max();
+    };
+    std::vector<Slot> local(slots);
+    std::vector<HeapEntry> batch, scratch;
+
+    for (;;) {
+        // The lowest window holding an entry.
+        std::size_t bl = nb;
+        if (!queue.empty()) {
+            queue.top();
+            bl = fine.lowest;
+        }
+        std::size_t wl = nw;
+        if (win.count > 0) {
+            const auto filled = [&](std::size_t w) {
+                for (const auto& s : win.slot)
+                    if (!s[w].empty()) return true;
+                return false;
+            };
+            while (win.lowest < nw && !filled(win.lowest)) ++win.lowest;
+            wl = win.lowest;
+        }
+        const std::size_t w = std::min(bl < nb ? bl / span : nw, wl);
+        if (w >= nw) break;
+        const std::size_t first = w * span;
+        std::size_t end = std::min(first + span, nb);
+        while (end > first && !(double(end - 1) * fine.width <= limit)) --end;  // buckets `relax` would pop
+        if (end == first) break;
+        if (end <= bl && end < std::min(first + span, nb)) {
+            // Limited: does the window hold an entry at or below the limit?
+            bool any = false;
+            for (const auto& s : win.slot)
+                for (const HeapEntry& e : s[w]) any = any || queue.index(e.first) < end;
+            if (!any) break;
+        }
+
+        // 1. The voxels that may have light steps, in bucket order; they are held for step 2.
+        batch.clear();
+        for (std::size_t b = std::max(first, bl); b < end; ++b) {
+            std::vector<HeapEntry>& bucket = fine.bucket[b];
+            while (!bucket.empty()) {
+                const HeapEntry e = bucket.back();
+                bucket.pop_back();
+                --fine.count;
+                const double v = e.first;
+                const std::size_t q = e.second;
+                if (v != val[q]) continue;  // stale entry
+                if (flag[q] & kLightNear)
+                    forEachNeighbour(d, offset, q, (flag[q] & kOnFace) != 0, [&](std::size_t r, std::size_t n) {
+                        if ((flag[r] & kSeed) || val[r] <= v) return;
+                        const double c = double(slow[r]) * length[n];
+                        if (c >= heavy) return;
+                        const double u = std::min(cap, v + c);
+                        if (u < val[r]) {
+                            val[r] = u;
+                            push(u, r);
+                            touch(r);
+                        }
+                    });
+                batch.push_back(e);
+            }
+            // A drained bucket gives its memory back: the buckets together hold only the front.
+            if (bucket.capacity() > 64) std::vector<HeapEntry>().swap(bucket);
+        }
+        if (fine.lowest < end) fine.lowest = std::min(end, nb - 1);
+
+        // 2. Every step of the window's voxels: those held and those waiting in the window's lists
+        // (a voxel without light steps has only heavy ones; a held one's light steps lower nothing now).
+        const bool whole = end == std::min(first + span, nb);
+        for (auto& s : win.slot) {
+            std::vector<HeapEntry>& list = s[w];
+            if (whole) {
+                batch.insert(batch.end(), list.begin(), list.end());
+                win.count -= list.size();
+                if (list.capacity() > 64)
+                    std::vector<HeapEntry>().swap(list);
+                else
+                    list.clear();
+            } else {
+                std::size_t kept = 0;
+                for (const HeapEntry& e : list)
+                    if (queue.index(e.first) < end)
+                        batch.push_back(e);
+                    else
+                        list[kept++] = e;
+                win.count -= list.size() - kept;
+                list.resize(kept);
+            }
+        }
+        if (batch.empty()) continue;
+        sortByVoxel(batch, scratch, d.count());
+        if (batch.size() < kParallelHeld || workers < 2) {
+            for (const HeapEntry& e : batch) {
+                const double v = e.first;
+                const std::size_t q = e.second;
+                if (v != val[q]) continue;  // stale, or lowered again since it was popped (then it waits again)
+                forEachNeighbour(d, offset, q, (flag[q] & kOnFace) != 0, [&](std::size_t r, std::size_t n) {
+                    if (flag[r] & kSeed) return;
+                    const double cur = val[r];
+                    if (cur <= v) return;
+                    const double u = std::min(cap, v + double(slow[r]) * length[n]);
+                    if (u < cur) {
+                        val[r] = u;
+                        push(u, r);
+                        touch(r);
+                    }
+                });
+            }
+            continue;
+        }
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, batch.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+                const std::size_t me = std::size_t(tbb::this_task_arena::current_thread_index());
+                Slot& sl = local[me];
+                std::vector<std::vector<HeapEntry>>& lists = win.slot[me];
+                for (std::size_t h = range.begin(); h != range.end(); ++h) {
+                    const double v = batch[h].first;
+                    const std::size_t q = batch[h].second;
+                    double now;
+                    __atomic_load(val + q, &now, __ATOMIC_RELAXED);
+                    if (v != now) continue;
+                    forEachNeighbour(d, offset, q, (flag[q] & kOnFace) != 0, [&](std::size_t r, std::size_t n) {
+                        if (flag[r] & kSeed) return;
+                        double cur;
+                        __atomic_load(val + r, &cur, __ATOMIC_RELAXED);
+                        if (cur <= v) return;
+                        double u = std::min(cap, v + double(slow[r]) * length[n]);
+                        while (u < cur) {
+                            if (__atomic_compare_exchange(val + r, &cur, &u, false, __ATOMIC_RELAXED,
+                                                          __ATOMIC_RELAXED)) {
+                                if (flag[r] & kLightNear) {
+                                    sl.light.push_back({u, r});
+                                } else {
+                                    const std::size_t to = queue.index(u) / span;
+                                    lists[to].push_back({u, r});
+                                    ++sl.pushed;
+                                    sl.lowest = std::min(sl.lowest, to);
+                                }
+                                if (touched && !__atomic_exchange_n(&(*touched)[r], std::uint8_t(1), __ATOMIC_RELAXED))
+                                    sl.firstTouched.push_back(r);
+                                break;
+                            }
+                        }
+                    });
+                }
+            });
+        // The slots' lowered voxels with light steps into the buckets: only the entries still current.
+        for (Slot& sl : local) {
+            for (const HeapEntry& e : sl.light)
+                if (e.first == val[e.second]) queue.push(e);
+            win.count += sl.pushed;
+            win.lowest = std::min(win.lowest, sl.lowest);
+            changes += sl.firstTouched.size();
+            if (touchedList) touchedList->insert(touchedList->end(), sl.firstTouched.begin(), sl.firstTouched.end());
+            sl = Slot{};
+        }
+    }
+    return changes;
 }
 
 }  // namespace
@@ -367,6 +504,15 @@ double upwindUpdate(double ax, double ay, double az, double f) {
     return u;
 }
 
+void EikonalField::prepareSweep(const Grid3<float>& slowness) {
+    // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
+    heavy_ = 0;
+    for (float x : slowness.data) heavy_ = std::max(heavy_, double(x));
+    buildFlags(dims_, slowness, seed_, heavy_, flags_);
+    windows_ = Windows{};
+    windows_.span = windowSpan(heavy_, buckets_.width);
+}
+
 void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const std::vector<Seed>& seeds, double cap,
                          Stencil stencil) {
     CAVESIM_CHECK(slowness.dims == dims, "EikonalField::solve: slowness grid has other dims");
@@ -388,12 +534,14 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
         for (std::size_t n = 0; n < seed_.size(); ++n)
             if (seed_[n]) queue.push({value_[n], n});
         if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>)
-            relaxBatched(dims_, slowness, seed_, cap_, heavy_, lightNear_, value_, queue, nullptr, nullptr, kInf);
+            relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, nullptr, nullptr, kInf);
         else
             relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
     };
     useBuckets_ = false;
     buckets_ = Buckets{};
+    windows_ = Windows{};
+    flags_.clear();
     if (stencil == Stencil::kAvalanche26) {
         // A bucket queue when buckets as wide as the smallest edge cost (the smallest slowness
         // times 1) cover [0, cap] with at most 2^21 of them; a heap otherwise.
@@ -406,11 +554,7 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
             buckets_.bucket.resize(std::size_t(count) + 2);
             buckets_.lowest = buckets_.bucket.size() - 1;
             // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
-            heavy_ = 0;
-            for (float x : slowness.data) heavy_ = std::max(heavy_, double(x));
-            lightNear_.assign(dims.count(), 0);
-            for (std::size_t c = 0; c < dims.count(); ++c)
-                if (double(slowness[c]) * std::sqrt(3.0) < heavy_) markLightNear(dims, slowness, heavy_, c, lightNear_);
+            prepareSweep(slowness);
             BucketQueue queue{buckets_};
             run(queue);
             return;
@@ -445,8 +589,8 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         }
         if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>) {
             for (std::size_t c : changed)
-                if (c < value_.size()) markLightNear(dims_, slowness, heavy_, c, lightNear_);
-            changes += relaxBatched(dims_, slowness, seed_, cap_, heavy_, lightNear_, value_, queue, &touched,
+                if (c < value_.size()) markLightNear(dims_, slowness, heavy_, c, flags_);
+            changes += relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, &touched,
                                     &touchedList, limit);
         } else {
             changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
@@ -467,6 +611,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         entries.swap(keep);
     };
     if (useBuckets_) {
+        if (flags_.size() != dims_.count()) prepareSweep(slowness);  // after `restore`
         BucketQueue queue{buckets_};
         run(queue);
         if (buckets_.count > std::max<std::size_t>(std::size_t(1) << 16, 2 * buckets_.compacted)) {
@@ -476,6 +621,15 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 buckets_.count += buckets_.bucket[b].size();
             }
             buckets_.compacted = buckets_.count;
+        }
+        if (windows_.count > std::max<std::size_t>(std::size_t(1) << 16, 2 * windows_.compacted)) {
+            windows_.count = 0;
+            for (auto& slot : windows_.slot)
+                for (std::size_t w = windows_.lowest; w < slot.size(); ++w) {
+                    current(slot[w]);
+                    windows_.count += slot[w].size();
+                }
+            windows_.compacted = windows_.count;
         }
         return changes;
     }
@@ -532,18 +686,40 @@ void EikonalField::save(ByteWriter& out) const {
     out.put(std::uint64_t(pendingCompacted_));
     out.put(std::uint8_t(useBuckets_ ? 1 : 0));
     out.put(buckets_.width);
-    out.put(std::uint64_t(buckets_.lowest));
-    out.put(std::uint64_t(buckets_.count));
-    out.put(std::uint64_t(buckets_.compacted));
+    // The queue in one form whatever the thread count and the order of pushes: its current
+    // entries (stale ones lower nothing) from the buckets and the windows, each in the bucket of
+    // its value, ordered by (value, voxel) within a bucket.
+    std::vector<std::pair<std::size_t, HeapEntry>> entries;  // (bucket, entry)
+    Buckets& fine = const_cast<Buckets&>(buckets_);          // BucketQueue::index only reads
+    const BucketQueue queue{fine};
+    const auto add = [&](const std::vector<HeapEntry>& list) {
+        for (const HeapEntry& e : list)
+            if (e.first == value_[e.second]) entries.push_back({queue.index(e.first), e});
+    };
+    for (std::size_t b = std::min(buckets_.lowest, buckets_.bucket.size()); b < buckets_.bucket.size(); ++b)
+        add(buckets_.bucket[b]);
+    for (const auto& slot : windows_.slot)
+        for (std::size_t w = windows_.lowest; w < slot.size(); ++w) add(slot[w]);
+    std::sort(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+    std::size_t lowest = buckets_.bucket.empty() ? 0 : buckets_.bucket.size() - 1;
+    if (!entries.empty()) lowest = entries.front().first;
+    out.put(std::uint64_t(lowest));
+    out.put(std::uint64_t(entries.size()));
+    out.put(std::uint64_t(entries.size()));
     out.put(std::uint64_t(buckets_.bucket.size()));
     std::uint64_t filled = 0;
-    for (const auto& b : buckets_.bucket) filled += b.empty() ? 0 : 1;
+    for (std::size_t k = 0; k < entries.size(); ++k) filled += k == 0 || entries[k].first != entries[k - 1].first;
     out.put(filled);
-    for (std::size_t b = 0; b < buckets_.bucket.size(); ++b)
-        if (!buckets_.bucket[b].empty()) {
-            out.put(std::uint64_t(b));
-            putEntries(out, buckets_.bucket[b]);
+    std::vector<HeapEntry> bucket;
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+        bucket.push_back(entries[k].second);
+        if (k + 1 == entries.size() || entries[k + 1].first != entries[k].first) {
+            out.put(std::uint64_t(entries[k].first));
+            putEntries(out, bucket);
+            bucket.clear();
         }
+    }
 }
 
 void EikonalField::restore(ByteReader& in, const Dims& dims) {
@@ -591,6 +767,7 @@ void EikonalField::restore(ByteReader& in, const Dims& dims) {
         count += f.buckets_.bucket[std::size_t(b)].size();
     }
     if (count != f.buckets_.count) in.fail("a bucket queue whose count does not match its entries");
+    f.windows_.span = 1;  // the windows are made by the next call (`prepareSweep`): all entries wait in the buckets
     *this = std::move(f);
 }
 
