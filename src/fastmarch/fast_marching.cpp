@@ -286,6 +286,9 @@ void sortByVoxel(std::vector<HeapEntry>& a, std::vector<HeapEntry>& tmp, std::si
     }
 }
 
+/// Windows are used from this many buckets each (`relaxBatched`).
+constexpr std::size_t kMinSpan = 8;
+
 /// Held batches below this count take their heavy steps on the calling thread.
 constexpr std::size_t kParallelHeld = 4096;
 
@@ -312,9 +315,14 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
     const std::size_t span = win.span;
     const std::size_t nw = (nb + span - 1) / span;
     const std::size_t slots = std::max<std::size_t>(1, std::size_t(tbb::this_task_arena::max_concurrency()));
-    if (win.slot.size() < slots) win.slot.resize(slots);
-    for (auto& s : win.slot)
-        if (s.size() != nw) s.resize(nw);
+    // Windows of a few buckets only would cost more memory (a list per window and worker) than
+    // they save: then every entry goes through the buckets.
+    const bool windows = span >= kMinSpan;
+    if (windows) {
+        if (win.slot.size() < slots) win.slot.resize(slots);
+        for (auto& s : win.slot)
+            if (s.size() != nw) s.resize(nw);
+    }
     const std::size_t workers =
         std::min<std::size_t>(slots, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
@@ -327,7 +335,7 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
 
     // Pushes from the calling thread: voxels with light steps into the buckets, others into their window.
     const auto push = [&](double u, std::size_t r) {
-        if (flag[r] & kLightNear) {
+        if (!windows || (flag[r] & kLightNear)) {
             queue.push({u, r});
             return;
         }
@@ -343,7 +351,7 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
             ++changes;
         }
     };
-    struct Slot {
+    struct alignas(128) Slot {         // one cache line pair per worker: no false sharing
         std::vector<HeapEntry> light;  // lowered voxels with light steps (into the buckets afterwards)
         std::vector<std::size_t> firstTouched;
         std::size_t pushed = 0;  // entries put into this slot's windows
@@ -433,6 +441,7 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
         // (a voxel without light steps has only heavy ones; a held one's light steps lower nothing now).
         const bool whole = end == std::min(first + span, nb);
         for (auto& s : win.slot) {
+            if (!windows) break;
             std::vector<HeapEntry>& list = s[w];
             if (whole) {
                 batch.insert(batch.end(), list.begin(), list.end());
@@ -473,14 +482,33 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
             }
             continue;
         }
-        // In parallel: a few chunks per worker, each sorted by voxel on its own.
-        const std::size_t chunks = workers * 4;
+        // In parallel: many chunks per worker (a worker the system stops holds little back), each a range of voxel
+        // indices (so the workers mostly write different parts of the grid) with about equal counts: one counting pass
+        // into bins of the index's top bits; each chunk is then sorted by voxel on its own.
+        const std::size_t chunks = workers * 16;
+        constexpr std::size_t kBins = 1024;
+        std::size_t shift = 0;
+        while ((d.count() - 1) >> shift >= kBins) ++shift;
+        std::array<std::size_t, kBins + 1> binStart{};
+        for (const HeapEntry& e : batch) ++binStart[(e.second >> shift) + 1];
+        for (std::size_t b = 1; b <= kBins; ++b) binStart[b] += binStart[b - 1];
+        std::vector<std::size_t> cut(chunks + 1, batch.size());
+        cut[0] = 0;
+        for (std::size_t c = 1, b = 0; c < chunks; ++c) {
+            while (b < kBins && binStart[b] < batch.size() * c / chunks) ++b;
+            cut[c] = binStart[b];
+        }
+        scratch.resize(batch.size());
+        {
+            std::array<std::size_t, kBins + 1> next = binStart;
+            for (const HeapEntry& e : batch) scratch[next[e.second >> shift]++] = e;
+        }
         tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
             const std::size_t me = std::size_t(tbb::this_task_arena::current_thread_index());
             Slot& sl = local[me];
-            std::vector<std::vector<HeapEntry>>& lists = win.slot[me];
-            const std::size_t begin = batch.size() * chunk / chunks, end = batch.size() * (chunk + 1) / chunks;
-            sl.part.assign(batch.begin() + std::ptrdiff_t(begin), batch.begin() + std::ptrdiff_t(end));
+            std::vector<std::vector<HeapEntry>>* lists = windows ? &win.slot[me] : nullptr;
+            sl.part.assign(scratch.begin() + std::ptrdiff_t(cut[chunk]),
+                           scratch.begin() + std::ptrdiff_t(cut[chunk + 1]));
             sortByVoxel(sl.part, sl.scratch, d.count());
             const std::vector<HeapEntry>& part = sl.part;
             for (std::size_t h = 0; h < part.size(); ++h) {
@@ -497,15 +525,16 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
                     if (!(u < cur) || (flag[r] & kSeed)) return;
                     while (u < cur) {
                         if (__atomic_compare_exchange(val + r, &cur, &u, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
-                            if (flag[r] & kLightNear) {
+                            if (!windows || (flag[r] & kLightNear)) {
                                 sl.light.push_back({u, r});
                             } else {
                                 const std::size_t to = queue.index(u) / span;
-                                lists[to].push_back({u, r});
+                                (*lists)[to].push_back({u, r});
                                 ++sl.pushed;
                                 sl.lowest = std::min(sl.lowest, to);
                             }
-                            if (touched && !__atomic_exchange_n(&(*touched)[r], std::uint8_t(1), __ATOMIC_RELAXED))
+                            if (touched && !__atomic_load_n(&(*touched)[r], __ATOMIC_RELAXED) &&
+                                !__atomic_exchange_n(&(*touched)[r], std::uint8_t(1), __ATOMIC_RELAXED))
                                 sl.firstTouched.push_back(r);
                             break;
                         }

@@ -118,8 +118,11 @@ public:
     double cap() const { return cap_; }
 
     /// Appends everything the field carries from one call to the next (values, seeds, the stencil,
-    /// the queue with the pending part of a limited sweep, entry for entry in its order) to `out`:
-    /// a field restored from these bytes returns the same bits from every later call (checkpoints).
+    /// the queue with the pending part of a limited sweep) to `out`: a field restored from these
+    /// bytes returns the same bits from every later call (checkpoints). The bucket queue is written
+    /// as its current entries (stale ones lower nothing), each in the bucket of its value, ordered
+    /// by (value, voxel): the same bytes for any thread count. The format is unchanged, so older
+    /// files, which also hold stale entries in push order, load as before.
     void save(ByteWriter& out) const;
     /// Replaces this field by one `save` wrote for a grid of `dims`.
     /// @throw InputError (from `in`) on bytes that are not such a field: sizes, voxel indices and
