@@ -10,9 +10,20 @@
 #include <limits>
 #include <queue>
 #include <string>
+#include <type_traits>
 #include <utility>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "core/check.h"
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace cavesim::fastmarch {
 namespace {
@@ -173,6 +184,381 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
     return changes;
 }
 
+/// Linear offsets of the 26 neighbours in `allNeighbours()` order.
+std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
+    std::array<std::ptrdiff_t, 26> offset{};
+    for (std::size_t n = 0; n < 26; ++n) {
+        const NeighbourOffset& o = allNeighbours()[n];
+        offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
+    }
+    return offset;
+}
+
+/// Calls fn(r, n) for each neighbour r of voxel q inside the grid, n its `allNeighbours()` slot;
+/// `onFace` says q lies on a face of the block (else no bounds checks are needed).
+template <typename Fn>
+inline void forEachNeighbour(const Dims& d, const std::array<std::ptrdiff_t, 26>& offset, std::size_t q, bool onFace,
+                             Fn&& fn) {
+    if (!onFace) {
+        for (std::size_t n = 0; n < 26; ++n) fn(std::size_t(std::ptrdiff_t(q) + offset[n]), n);
+        return;
+    }
+    const Index3 p = d.coord(q);
+    for (std::size_t n = 0; n < 26; ++n) {
+        const NeighbourOffset& o = allNeighbours()[n];
+        if (d.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) fn(std::size_t(std::ptrdiff_t(q) + offset[n]), n);
+    }
+}
+
+/// Asks the kernel to back a large array with 2 MB pages (now, where it can: MADV_COLLAPSE):
+/// the sweep reads a voxel's 3×3 rows of neighbours, each in another 4 KB page, so with small
+/// pages most reads of a large block also miss the TLB. A hint only: nothing else changes, and
+/// where the kernel declines, nothing at all.
+void adviseHugePages(const void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr std::uintptr_t kHuge = std::uintptr_t(1) << 21;
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHuge - 1);
+    if (end <= begin) return;
+    void* p = reinterpret_cast<void*>(begin);
+    if (madvise(p, end - begin, MADV_HUGEPAGE) != 0) return;
+    constexpr int kCollapse = 25;  // MADV_COLLAPSE (Linux 6.1), not in older headers
+    (void)madvise(p, end - begin, kCollapse);
+#else
+    (void)data;
+    (void)bytes;
+#endif
+}
+
+/// Per-voxel flags of the bucket-queue sweep (`EikonalField::flags_`).
+constexpr std::uint8_t kLightNear = 1;  ///< the voxel may have a light step (0: certainly none)
+constexpr std::uint8_t kSeed = 2;       ///< a seed: holds its value
+constexpr std::uint8_t kOnFace = 4;     ///< on a face of the block: some neighbours lie outside
+
+/// Sets kLightNear on every neighbour q of voxel c that has a light step into c.
+void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, std::size_t c,
+                   std::vector<std::uint8_t>& flags) {
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
+    forEachNeighbour(d, offset, c, (flags[c] & kOnFace) != 0, [&](std::size_t q, std::size_t n) {
+        if (double(slowness[c]) * allNeighbours()[n].length < heavy) flags[q] |= kLightNear;
+    });
+}
+
+/// The flags of every voxel; `heavy` = the largest slowness.
+void buildFlags(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double heavy,
+                std::vector<std::uint8_t>& flags) {
+    flags.assign(d.count(), 0);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                const std::size_t c = d.index(i, j, k);
+                if (i == 0 || j == 0 || k == 0 || i + 1 == d.nx || j + 1 == d.ny || k + 1 == d.nz) flags[c] |= kOnFace;
+                if (seed[c]) flags[c] |= kSeed;
+            }
+    for (std::size_t c = 0; c < d.count(); ++c)
+        if (double(slowness[c]) * std::sqrt(3.0) < heavy) markLightNear(d, slowness, heavy, c, flags);
+}
+
+/// Buckets per window: a heavy step from a value in a window's first bucket lands beyond the
+/// window (one bucket is left for the rounding of the sum and of the bucket index).
+std::size_t windowSpan(double heavy, double width) {
+    const double s = std::floor(heavy / width) - 1.0;
+    return s >= 1.0 ? std::size_t(std::min(s, double(1 << 22))) : 1;
+}
+
+/// Sorts entries by voxel index (LSD radix sort, 11 bits a pass): the heavy steps of a batch then
+/// walk the grid in memory order.
+void sortByVoxel(std::vector<HeapEntry>& a, std::vector<HeapEntry>& tmp, std::size_t voxels) {
+    if (a.size() < 512) {
+        std::sort(a.begin(), a.end(), [](const HeapEntry& x, const HeapEntry& y) { return x.second < y.second; });
+        return;
+    }
+    int bits = 1;
+    while (bits < 64 && (std::size_t(1) << bits) < voxels) ++bits;
+    tmp.resize(a.size());
+    constexpr int kBits = 11;
+    for (int shift = 0; shift < bits; shift += kBits) {
+        std::array<std::size_t, (1 << kBits) + 1> count{};
+        for (const HeapEntry& e : a) ++count[((e.second >> shift) & ((1 << kBits) - 1)) + 1];
+        for (std::size_t b = 1; b < count.size(); ++b) count[b] += count[b - 1];
+        for (const HeapEntry& e : a) tmp[count[(e.second >> shift) & ((1 << kBits) - 1)]++] = e;
+        a.swap(tmp);
+    }
+}
+
+/// Windows are used from this many buckets each (`relaxBatched`).
+constexpr std::size_t kMinSpan = 8;
+
+/// Held batches below this count take their heavy steps on the calling thread.
+constexpr std::size_t kParallelHeld = 4096;
+
+/// The avalanche sweep (kAvalanche26) on the bucket queue with its **heavy steps batched**: the
+/// same values and the same count of changed voxels as `relax`, bit for bit, on any number of
+/// threads. A step into voxel r costs slowness(r) · |step|; a step is *heavy* when that is at
+/// least `heavy` (the rock's rate) and *light* otherwise. A heavy step from value v lowers to at
+/// least v + heavy, beyond the *window* of `span` buckets that holds v; so the sweep goes a window
+/// at a time: first the voxels that may have light steps, popped in bucket order (the `Buckets`),
+/// taking their light steps at once, as `relax` does; then the heavy steps of all the window's
+/// voxels together — those popped and every entry of voxels without light steps, which wait in
+/// the window's lists (`Windows`) without being ordered — sorted by voxel index and in parallel:
+/// each lowering is an atomic minimum, and a voxel's final value is the minimum over the same
+/// candidate values whatever the order. A sweep limited to buckets up to the limit takes exactly
+/// the entries `relax` would pop. Where a value still lands in a window already swept (only when a
+/// step's rounding or a light step of a voxel whose flags changed puts it there) the sweep goes
+/// back to that window: it stays label-correcting, so the values are the same.
+std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap, double heavy,
+                         const std::vector<std::uint8_t>& flags, Grid3<double>& value, EikonalField::Buckets& fine,
+                         EikonalField::Windows& win, std::vector<std::uint8_t>* touched,
+                         std::vector<std::size_t>* touchedList, double limit) {
+    BucketQueue queue{fine};
+    const std::size_t nb = fine.bucket.size();
+    const std::size_t span = win.span;
+    const std::size_t nw = (nb + span - 1) / span;
+    const std::size_t slots = std::max<std::size_t>(1, std::size_t(tbb::this_task_arena::max_concurrency()));
+    // Windows of a few buckets only would cost more memory (a list per window and worker) than
+    // they save: then every entry goes through the buckets.
+    const bool windows = span >= kMinSpan;
+    if (windows) {
+        if (win.slot.size() < slots) win.slot.resize(slots);
+        for (auto& s : win.slot)
+            if (s.size() != nw) s.resize(nw);
+    }
+    const std::size_t workers =
+        std::min<std::size_t>(slots, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
+    std::array<double, 26> length{};
+    for (std::size_t n = 0; n < 26; ++n) length[n] = allNeighbours()[n].length;
+    const float* slow = slowness.data.data();
+    const std::uint8_t* flag = flags.data();
+    double* val = value.data.data();
+    std::size_t changes = 0;
+
+    // Pushes from the calling thread: voxels with light steps into the buckets, others into their window.
+    const auto push = [&](double u, std::size_t r) {
+        if (!windows || (flag[r] & kLightNear)) {
+            queue.push({u, r});
+            return;
+        }
+        const std::size_t w = queue.index(u) / span;
+        win.slot[0][w].push_back({u, r});
+        win.lowest = std::min(win.lowest, w);
+        ++win.count;
+    };
+    const auto touch = [&](std::size_t r) {
+        if (touched && !(*touched)[r]) {
+            (*touched)[r] = 1;
+            if (touchedList) touchedList->push_back(r);
+            ++changes;
+        }
+    };
+    struct alignas(128) Slot {         // one cache line pair per worker: no false sharing
+        std::vector<HeapEntry> light;  // lowered voxels with light steps (into the buckets afterwards)
+        std::vector<std::size_t> firstTouched;
+        std::size_t pushed = 0;  // entries put into this slot's windows
+        std::size_t lowest = std::numeric_limits<std::size_t>::max();
+        std::vector<HeapEntry> part, scratch;  // this worker's chunk of the batch, sorted
+    };
+    std::vector<Slot> local(slots);
+    // The batch walks the grid in memory order, but a shell's voxels are not adjacent in memory:
+    // the 3×3 rows of a voxel a few items ahead are fetched while this one is done.
+    constexpr std::size_t kAhead = 4;
+    const std::ptrdiff_t row = d.nx, plane = std::ptrdiff_t(d.nx) * d.ny;
+    const std::ptrdiff_t total = std::ptrdiff_t(d.count());
+    const auto prefetch = [&](std::size_t q) {
+        for (std::ptrdiff_t dk = -plane; dk <= plane; dk += plane)
+            for (std::ptrdiff_t dj = -row; dj <= row; dj += row) {
+                const std::ptrdiff_t r = std::ptrdiff_t(q) + dk + dj;
+                if (r < 0 || r >= total) continue;
+                __builtin_prefetch(val + r, 1);
+                __builtin_prefetch(slow + r);
+                __builtin_prefetch(flag + r);
+            }
+    };
+    std::vector<HeapEntry> batch, scratch;
+
+    for (;;) {
+        // The lowest window holding an entry.
+        std::size_t bl = nb;
+        if (!queue.empty()) {
+            queue.top();
+            bl = fine.lowest;
+        }
+        std::size_t wl = nw;
+        if (win.count > 0) {
+            const auto filled = [&](std::size_t w) {
+                for (const auto& s : win.slot)
+                    if (!s[w].empty()) return true;
+                return false;
+            };
+            while (win.lowest < nw && !filled(win.lowest)) ++win.lowest;
+            wl = win.lowest;
+        }
+        const std::size_t w = std::min(bl < nb ? bl / span : nw, wl);
+        if (w >= nw) break;
+        const std::size_t first = w * span;
+        std::size_t end = std::min(first + span, nb);
+        while (end > first && !(double(end - 1) * fine.width <= limit)) --end;  // buckets `relax` would pop
+        if (end == first) break;
+        if (end <= bl && end < std::min(first + span, nb)) {
+            // Limited: does the window hold an entry at or below the limit?
+            bool any = false;
+            for (const auto& s : win.slot)
+                for (const HeapEntry& e : s[w]) any = any || queue.index(e.first) < end;
+            if (!any) break;
+        }
+
+        // 1. The voxels that may have light steps, in bucket order; they are held for step 2.
+        batch.clear();
+        for (std::size_t b = std::max(first, bl); b < end; ++b) {
+            std::vector<HeapEntry>& bucket = fine.bucket[b];
+            while (!bucket.empty()) {
+                const HeapEntry e = bucket.back();
+                bucket.pop_back();
+                --fine.count;
+                const double v = e.first;
+                const std::size_t q = e.second;
+                if (v != val[q]) continue;  // stale entry
+                if (flag[q] & kLightNear)
+                    forEachNeighbour(d, offset, q, (flag[q] & kOnFace) != 0, [&](std::size_t r, std::size_t n) {
+                        if ((flag[r] & kSeed) || val[r] <= v) return;
+                        const double c = double(slow[r]) * length[n];
+                        if (c >= heavy) return;
+                        const double u = std::min(cap, v + c);
+                        if (u < val[r]) {
+                            val[r] = u;
+                            push(u, r);
+                            touch(r);
+                        }
+                    });
+                batch.push_back(e);
+            }
+            // A drained bucket gives its memory back: the buckets together hold only the front.
+            if (bucket.capacity() > 64) std::vector<HeapEntry>().swap(bucket);
+        }
+        if (fine.lowest < end) fine.lowest = std::min(end, nb - 1);
+
+        // 2. Every step of the window's voxels: those held and those waiting in the window's lists
+        // (a voxel without light steps has only heavy ones; a held one's light steps lower nothing now).
+        const bool whole = end == std::min(first + span, nb);
+        for (auto& s : win.slot) {
+            if (!windows) break;
+            std::vector<HeapEntry>& list = s[w];
+            if (whole) {
+                batch.insert(batch.end(), list.begin(), list.end());
+                win.count -= list.size();
+                if (list.capacity() > 64)
+                    std::vector<HeapEntry>().swap(list);
+                else
+                    list.clear();
+            } else {
+                std::size_t kept = 0;
+                for (const HeapEntry& e : list)
+                    if (queue.index(e.first) < end)
+                        batch.push_back(e);
+                    else
+                        list[kept++] = e;
+                win.count -= list.size() - kept;
+                list.resize(kept);
+            }
+        }
+        if (batch.empty()) continue;
+        // A step lowers r where v + cost < value[r]; v + cost ≥ cap never does (values are at most
+        // cap), so min(cap, ·) of `relax` changes nothing, and neither does its test value[r] ≤ v.
+        if (batch.size() < kParallelHeld || workers < 2) {
+            sortByVoxel(batch, scratch, d.count());
+            for (std::size_t h = 0; h < batch.size(); ++h) {
+                if (h + kAhead < batch.size()) prefetch(batch[h + kAhead].second);
+                const double v = batch[h].first;
+                const std::size_t q = batch[h].second;
+                if (v != val[q]) continue;  // stale, or lowered again since it was popped (then it waits again)
+                forEachNeighbour(d, offset, q, (flag[q] & kOnFace) != 0, [&](std::size_t r, std::size_t n) {
+                    const double u = v + double(slow[r]) * length[n];
+                    if (u < val[r] && !(flag[r] & kSeed)) {
+                        val[r] = u;
+                        push(u, r);
+                        touch(r);
+                    }
+                });
+            }
+            continue;
+        }
+        // In parallel: many chunks per worker (a worker the system stops holds little back), each a range of voxel
+        // indices (so the workers mostly write different parts of the grid) with about equal counts: one counting pass
+        // into bins of the index's top bits; each chunk is then sorted by voxel on its own.
+        const std::size_t chunks = workers * 16;
+        constexpr std::size_t kBins = 1024;
+        std::size_t shift = 0;
+        while ((d.count() - 1) >> shift >= kBins) ++shift;
+        std::array<std::size_t, kBins + 1> binStart{};
+        for (const HeapEntry& e : batch) ++binStart[(e.second >> shift) + 1];
+        for (std::size_t b = 1; b <= kBins; ++b) binStart[b] += binStart[b - 1];
+        std::vector<std::size_t> cut(chunks + 1, batch.size());
+        cut[0] = 0;
+        for (std::size_t c = 1, b = 0; c < chunks; ++c) {
+            while (b < kBins && binStart[b] < batch.size() * c / chunks) ++b;
+            cut[c] = binStart[b];
+        }
+        scratch.resize(batch.size());
+        {
+            std::array<std::size_t, kBins + 1> next = binStart;
+            for (const HeapEntry& e : batch) scratch[next[e.second >> shift]++] = e;
+        }
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
+            const std::size_t me = std::size_t(tbb::this_task_arena::current_thread_index());
+            Slot& sl = local[me];
+            std::vector<std::vector<HeapEntry>>* lists = windows ? &win.slot[me] : nullptr;
+            sl.part.assign(scratch.begin() + std::ptrdiff_t(cut[chunk]),
+                           scratch.begin() + std::ptrdiff_t(cut[chunk + 1]));
+            sortByVoxel(sl.part, sl.scratch, d.count());
+            const std::vector<HeapEntry>& part = sl.part;
+            for (std::size_t h = 0; h < part.size(); ++h) {
+                if (h + kAhead < part.size()) prefetch(part[h + kAhead].second);
+                const double v = part[h].first;
+                const std::size_t q = part[h].second;
+                double now;
+                __atomic_load(val + q, &now, __ATOMIC_RELAXED);
+                if (v != now) continue;
+                forEachNeighbour(d, offset, q, (flag[q] & kOnFace) != 0, [&](std::size_t r, std::size_t n) {
+                    double cur;
+                    __atomic_load(val + r, &cur, __ATOMIC_RELAXED);
+                    double u = v + double(slow[r]) * length[n];
+                    if (!(u < cur) || (flag[r] & kSeed)) return;
+                    while (u < cur) {
+                        if (__atomic_compare_exchange(val + r, &cur, &u, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+                            if (!windows || (flag[r] & kLightNear)) {
+                                sl.light.push_back({u, r});
+                            } else {
+                                const std::size_t to = queue.index(u) / span;
+                                (*lists)[to].push_back({u, r});
+                                ++sl.pushed;
+                                sl.lowest = std::min(sl.lowest, to);
+                            }
+                            if (touched && !__atomic_load_n(&(*touched)[r], __ATOMIC_RELAXED) &&
+                                !__atomic_exchange_n(&(*touched)[r], std::uint8_t(1), __ATOMIC_RELAXED))
+                                sl.firstTouched.push_back(r);
+                            break;
+                        }
+                    }
+                });
+            }
+        });
+        // The slots' lowered voxels with light steps into the buckets: only the entries still current.
+        for (Slot& sl : local) {
+            for (const HeapEntry& e : sl.light)
+                if (e.first == val[e.second]) queue.push(e);
+            win.count += sl.pushed;
+            win.lowest = std::min(win.lowest, sl.lowest);
+            changes += sl.firstTouched.size();
+            if (touchedList) touchedList->insert(touchedList->end(), sl.firstTouched.begin(), sl.firstTouched.end());
+            sl.light.clear();
+            sl.firstTouched.clear();
+            sl.pushed = 0;
+            sl.lowest = std::numeric_limits<std::size_t>::max();
+        }
+    }
+    return changes;
+}
+
 }  // namespace
 
 double upwindUpdate(double ax, double ay, double az, double f) {
@@ -192,6 +578,18 @@ double upwindUpdate(double ax, double ay, double az, double f) {
         u = (sum + std::sqrt(disc)) / m;
     }
     return u;
+}
+
+void EikonalField::prepareSweep(const Grid3<float>& slowness) {
+    // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
+    heavy_ = 0;
+    for (float x : slowness.data) heavy_ = std::max(heavy_, double(x));
+    buildFlags(dims_, slowness, seed_, heavy_, flags_);
+    adviseHugePages(flags_.data(), flags_.size());
+    adviseHugePages(value_.data.data(), value_.size() * sizeof(double));
+    adviseHugePages(slowness.data.data(), slowness.data.size() * sizeof(float));
+    windows_ = Windows{};
+    windows_.span = windowSpan(heavy_, buckets_.width);
 }
 
 void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const std::vector<Seed>& seeds, double cap,
@@ -214,10 +612,15 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     const auto run = [&](auto& queue) {
         for (std::size_t n = 0; n < seed_.size(); ++n)
             if (seed_[n]) queue.push({value_[n], n});
-        relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
+        if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>)
+            relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, nullptr, nullptr, kInf);
+        else
+            relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, nullptr);
     };
     useBuckets_ = false;
     buckets_ = Buckets{};
+    windows_ = Windows{};
+    flags_.clear();
     if (stencil == Stencil::kAvalanche26) {
         // A bucket queue when buckets as wide as the smallest edge cost (the smallest slowness
         // times 1) cover [0, cap] with at most 2^21 of them; a heap otherwise.
@@ -229,6 +632,8 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
             buckets_.width = double(smallest);
             buckets_.bucket.resize(std::size_t(count) + 2);
             buckets_.lowest = buckets_.bucket.size() - 1;
+            // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
+            prepareSweep(slowness);
             BucketQueue queue{buckets_};
             run(queue);
             return;
@@ -243,7 +648,10 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
     // `touched_` stays allocated between calls and only the entries set here are cleared again, so
     // the cost follows the voxels that change, not the grid.
     std::vector<std::uint8_t>& touched = touched_;
-    if (touched.size() != dims_.count()) touched.assign(dims_.count(), 0);
+    if (touched.size() != dims_.count()) {
+        touched.assign(dims_.count(), 0);
+        adviseHugePages(touched.data(), touched.size());
+    }
     std::vector<std::size_t> touchedList;
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value_[n]; };
@@ -261,7 +669,14 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 }
             }
         }
-        changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
+        if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>) {
+            for (std::size_t c : changed)
+                if (c < value_.size()) markLightNear(dims_, slowness, heavy_, c, flags_);
+            changes += relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, &touched,
+                                    &touchedList, limit);
+        } else {
+            changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
+        }
         for (std::size_t q : touchedList) touched[q] = 0;
     };
     // Entries above the limit wait for a later call. Stale ones (their voxel fell since) and
@@ -278,6 +693,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         entries.swap(keep);
     };
     if (useBuckets_) {
+        if (flags_.size() != dims_.count()) prepareSweep(slowness);  // after `restore`
         BucketQueue queue{buckets_};
         run(queue);
         if (buckets_.count > std::max<std::size_t>(std::size_t(1) << 16, 2 * buckets_.compacted)) {
@@ -287,6 +703,15 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 buckets_.count += buckets_.bucket[b].size();
             }
             buckets_.compacted = buckets_.count;
+        }
+        if (windows_.count > std::max<std::size_t>(std::size_t(1) << 16, 2 * windows_.compacted)) {
+            windows_.count = 0;
+            for (auto& slot : windows_.slot)
+                for (std::size_t w = windows_.lowest; w < slot.size(); ++w) {
+                    current(slot[w]);
+                    windows_.count += slot[w].size();
+                }
+            windows_.compacted = windows_.count;
         }
         return changes;
     }
@@ -343,18 +768,40 @@ void EikonalField::save(ByteWriter& out) const {
     out.put(std::uint64_t(pendingCompacted_));
     out.put(std::uint8_t(useBuckets_ ? 1 : 0));
     out.put(buckets_.width);
-    out.put(std::uint64_t(buckets_.lowest));
-    out.put(std::uint64_t(buckets_.count));
-    out.put(std::uint64_t(buckets_.compacted));
+    // The queue in one form whatever the thread count and the order of pushes: its current
+    // entries (stale ones lower nothing) from the buckets and the windows, each in the bucket of
+    // its value, ordered by (value, voxel) within a bucket.
+    std::vector<std::pair<std::size_t, HeapEntry>> entries;  // (bucket, entry)
+    Buckets& fine = const_cast<Buckets&>(buckets_);          // BucketQueue::index only reads
+    const BucketQueue queue{fine};
+    const auto add = [&](const std::vector<HeapEntry>& list) {
+        for (const HeapEntry& e : list)
+            if (e.first == value_[e.second]) entries.push_back({queue.index(e.first), e});
+    };
+    for (std::size_t b = std::min(buckets_.lowest, buckets_.bucket.size()); b < buckets_.bucket.size(); ++b)
+        add(buckets_.bucket[b]);
+    for (const auto& slot : windows_.slot)
+        for (std::size_t w = windows_.lowest; w < slot.size(); ++w) add(slot[w]);
+    std::sort(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+    std::size_t lowest = buckets_.bucket.empty() ? 0 : buckets_.bucket.size() - 1;
+    if (!entries.empty()) lowest = entries.front().first;
+    out.put(std::uint64_t(lowest));
+    out.put(std::uint64_t(entries.size()));
+    out.put(std::uint64_t(entries.size()));
     out.put(std::uint64_t(buckets_.bucket.size()));
     std::uint64_t filled = 0;
-    for (const auto& b : buckets_.bucket) filled += b.empty() ? 0 : 1;
+    for (std::size_t k = 0; k < entries.size(); ++k) filled += k == 0 || entries[k].first != entries[k - 1].first;
     out.put(filled);
-    for (std::size_t b = 0; b < buckets_.bucket.size(); ++b)
-        if (!buckets_.bucket[b].empty()) {
-            out.put(std::uint64_t(b));
-            putEntries(out, buckets_.bucket[b]);
+    std::vector<HeapEntry> bucket;
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+        bucket.push_back(entries[k].second);
+        if (k + 1 == entries.size() || entries[k + 1].first != entries[k].first) {
+            out.put(std::uint64_t(entries[k].first));
+            putEntries(out, bucket);
+            bucket.clear();
         }
+    }
 }
 
 void EikonalField::restore(ByteReader& in, const Dims& dims) {
@@ -402,6 +849,7 @@ void EikonalField::restore(ByteReader& in, const Dims& dims) {
         count += f.buckets_.bucket[std::size_t(b)].size();
     }
     if (count != f.buckets_.count) in.fail("a bucket queue whose count does not match its entries");
+    f.windows_.span = 1;  // the windows are made by the next call (`prepareSweep`): all entries wait in the buckets
     *this = std::move(f);
 }
 

@@ -104,7 +104,7 @@ public:
     std::size_t settle(const Grid3<float>& slowness);
 
     /// True when no limited sweep is pending (every value is final).
-    bool settled() const { return pending_.empty() && buckets_.count == 0; }
+    bool settled() const { return pending_.empty() && buckets_.count == 0 && windows_.count == 0; }
 
     /// The avalanche stencil's queue: entries (value, voxel) bucketed by value.
     struct Buckets {
@@ -115,12 +115,26 @@ public:
         std::size_t compacted = 0;  ///< count after the last clean-up
     };
 
+    /// The avalanche sweep's second queue: entries of voxels without light steps (see the .cpp),
+    /// by window — a run of `span` buckets — in one list per worker slot, in any order (a window's
+    /// entries are taken all at once). Together with `Buckets` it holds the queue.
+    struct Windows {
+        std::vector<std::vector<std::vector<std::pair<double, std::size_t>>>> slot;  ///< [worker][window]
+        std::size_t span = 1;                                                        ///< buckets per window
+        std::size_t lowest = 0;     ///< no entry lies in a window below this
+        std::size_t count = 0;      ///< entries (pending ones between calls)
+        std::size_t compacted = 0;  ///< count after the last clean-up
+    };
+
     const Grid3<double>& value() const { return value_; }
     double cap() const { return cap_; }
 
     /// Appends everything the field carries from one call to the next (values, seeds, the stencil,
-    /// the queue with the pending part of a limited sweep, entry for entry in its order) to `out`:
-    /// a field restored from these bytes returns the same bits from every later call (checkpoints).
+    /// the queue with the pending part of a limited sweep) to `out`: a field restored from these
+    /// bytes returns the same bits from every later call (checkpoints). The bucket queue is written
+    /// as its current entries (stale ones lower nothing), each in the bucket of its value, ordered
+    /// by (value, voxel): the same bytes for any thread count. The format is unchanged, so older
+    /// files, which also hold stale entries in push order, load as before.
     void save(ByteWriter& out) const;
     /// Replaces this field by one `save` wrote for a grid of `dims`.
     /// @throw InputError (from `in`) on bytes that are not such a field: sizes, voxel indices and
@@ -128,6 +142,9 @@ public:
     void restore(ByteReader& in, const Dims& dims);
 
 private:
+    /// Bucket queue: the heavy step cost, the flags and the window span from `slowness` (the windows empty).
+    void prepareSweep(const Grid3<float>& slowness);
+
     Dims dims_;
     double cap_ = 0.0;
     Stencil stencil_ = Stencil::kFace6;
@@ -138,6 +155,10 @@ private:
     std::size_t pendingCompacted_ = 0;                     ///< size of pending_ after its last clean-up
     Buckets buckets_;                                      ///< kAvalanche26: the queue; pending entries between calls
     bool useBuckets_ = false;                              ///< the queue is `buckets_` (else a heap)
+    Windows windows_;                                      ///< kAvalanche26: the queue's entries without light steps
+    double heavy_ = 0.0;               ///< bucket queue: steps costing this or more wait and run batched
+    std::vector<std::uint8_t> flags_;  ///< bucket queue: per voxel, may have a light step / seed / on a face
+                                       ///< (empty after `restore`: rebuilt by the next call)
 };
 
 /// The first-order Godunov upwind update of one voxel from the values of its face neighbours

@@ -5,15 +5,19 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <queue>
 #include <random>
 
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "fastmarch/fast_marching.h"
 
 namespace cavesim::fastmarch {
 namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 Grid3<float> ones(const Dims& d) {
     return Grid3<float>(d, 1.0f);
@@ -143,6 +147,106 @@ TEST(Eikonal, LimitedDecreaseIsFinalBelowTheLimitAndSettlesToTheSameBits) {
         fresh.solve(d, s, seeds, cap, Stencil::kAvalanche26);
         EXPECT_EQ(fresh.value().data, whole.value().data);
     }
+}
+
+/// Dijkstra on the 26-neighbour graph with a binary heap, written out plainly: the values the
+/// avalanche stencil must give (each the minimum over paths of the same rounded path costs).
+std::vector<double> referenceAvalanche(const Dims& d, const Grid3<float>& s, const std::vector<Seed>& seeds,
+                                       double cap) {
+    std::vector<double> t(d.count(), cap);
+    std::vector<std::uint8_t> isSeed(d.count(), 0);
+    using E = std::pair<double, std::size_t>;
+    std::priority_queue<E, std::vector<E>, std::greater<E>> heap;
+    for (const Seed& q : seeds) {
+        t[q.voxel] = std::min(cap, q.value);
+        isSeed[q.voxel] = 1;
+        heap.push({t[q.voxel], q.voxel});
+    }
+    while (!heap.empty()) {
+        const auto [v, q] = heap.top();
+        heap.pop();
+        if (v != t[q]) continue;
+        const Index3 p = d.coord(q);
+        for (const auto& o : allNeighbours()) {
+            if (!d.contains(p.i + o.di, p.j + o.dj, p.k + o.dk)) continue;
+            const std::size_t r = d.index(p.i + o.di, p.j + o.dj, p.k + o.dk);
+            const double u = std::min(cap, v + double(s[r]) * o.length);
+            if (!isSeed[r] && u < t[r]) {
+                t[r] = u;
+                heap.push({u, r});
+            }
+        }
+    }
+    return t;
+}
+
+// The stage-2 case at a size where the held heavy steps run in parallel (rock 0.5, channels
+// 0.001 growing a few voxels per call, limited decreases): the values and the count of changed
+// voxels of every call are the same bits with one thread and with two, and equal a plain
+// Dijkstra after every call where final and after settle() everywhere.
+TEST(Eikonal, BatchedHeavyStepsGiveTheSameBitsOnAnyThreadCount) {
+    const Dims d{80, 80, 40};
+    const double cap = 2.0 * 0.5 * (80 + 80 + 40);
+    std::vector<Seed> seeds;
+    for (int k = 0; k < 8; ++k)
+        for (int j = 36; j < 44; ++j) seeds.push_back({d.index(79, j, k), 0.0, 0});
+    struct Run {
+        std::vector<std::vector<double>> values;
+        std::vector<std::size_t> changes;
+        std::vector<std::string> saved;  // the field's checkpoint bytes after every limited call
+    };
+    const auto run = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        Grid3<float> s(d, 0.5f);
+        std::mt19937_64 rng(3);
+        std::uniform_int_distribution<int> step(-1, 1);
+        Index3 tip{70, 40, 4};
+        EikonalField f;
+        f.solve(d, s, seeds, cap, Stencil::kAvalanche26);
+        Run out;
+        out.values.push_back(f.value().data);
+        for (int call = 0; call < 24; ++call) {
+            std::vector<std::size_t> changed;
+            for (int c = 0; c < 6; ++c) {  // the channel grows away from the sink
+                tip = {std::clamp(tip.i - 1 + step(rng), 1, d.nx - 2), std::clamp(tip.j + step(rng), 1, d.ny - 2),
+                       std::clamp(tip.k + step(rng), 1, d.nz - 2)};
+                if (s[d.index(tip)] > 0.001f) {
+                    s[d.index(tip)] = 0.001f;
+                    changed.push_back(d.index(tip));
+                }
+            }
+            out.changes.push_back(f.decrease(s, changed, call % 3 == 2 ? kInfinity : 20.0 + call));
+            out.values.push_back(f.value().data);
+            if (call % 3 != 2) {
+                std::string bytes;
+                ByteWriter w(bytes);
+                f.save(w);
+                out.saved.push_back(bytes);
+            }
+            if (call == 10) {  // continue from a restored copy: the later calls give the same bits
+                ByteReader r(out.saved.back().data(), out.saved.back().size(), "field");
+                EikonalField g;
+                g.restore(r, d);
+                f = std::move(g);
+            }
+        }
+        out.changes.push_back(f.settle(s));
+        out.values.push_back(f.value().data);
+        const std::vector<double> expect = referenceAvalanche(d, s, seeds, cap);
+        EXPECT_EQ(f.value().data, expect) << threads << " thread(s)";
+        return out;
+    };
+    const Run one = run(1), two = run(2);
+    // Two workers in an arena of 2, also where the machine has one core.
+    Run arena;
+    tbb::task_arena(2).execute([&] { arena = run(2); });
+    for (const Run* other : std::vector<const Run*>{&two, &arena}) {
+        EXPECT_EQ(one.changes, other->changes);
+        ASSERT_EQ(one.values.size(), other->values.size());
+        for (std::size_t c = 0; c < one.values.size(); ++c) ASSERT_EQ(one.values[c], other->values[c]) << "call " << c;
+        EXPECT_EQ(one.saved, other->saved);  // the pending queue, too, whatever the thread count
+    }
+    EXPECT_GT(one.changes.front(), 1000u);  // the calls do move a large front
 }
 
 TEST(Eikonal, AvalancheStepsCarryLowValuesAlongADiagonalChannel) {
