@@ -863,51 +863,221 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
                                                   " outside a grid of " + std::to_string(dims.count()));
         CAVESIM_CHECK(s.label >= 0 && std::size_t(s.label) < labelSpeed.size(),
                       "marchLabelled: seed label " + std::to_string(s.label) + " has no speed");
+        CAVESIM_CHECK(s.value >= 0 && std::isfinite(s.value),
+                      "marchLabelled: seed values must be finite and >= 0, got " + std::to_string(s.value));
     }
     LabelledArrival out{Grid3<double>(dims, kInf), Grid3<std::int32_t>(dims, -1)};
-    // One front per label through the whole grid, then the earliest arrival wins (ties: lower
-    // label). The fronts are independent, so a batch of them marches in parallel, one per worker;
-    // merging in label order keeps the result the same for any thread count.
-    const std::size_t nLabels = labelSpeed.size();
-    const std::size_t batch = std::max<std::size_t>(1, std::size_t(tbb::this_task_arena::max_concurrency()));
-    std::vector<Grid3<double>> times(std::min(batch, nLabels));
-    std::vector<std::uint8_t> marched(nLabels, 0);
-    for (std::size_t first = 0; first < nLabels; first += batch) {
-        const std::size_t count = std::min(batch, nLabels - first);
-        tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
-            const std::size_t label = first + k;
-            Grid3<double>& time = times[k];
-            time = Grid3<double>(dims, kInf);
-            std::vector<std::uint8_t> isSeed(dims.count(), 0);
-            MinHeap heap;
-            for (const Seed& s : seeds) {
-                if (std::size_t(s.label) != label) continue;
-                time[s.voxel] = isSeed[s.voxel] ? std::min(time[s.voxel], s.value) : s.value;
-                isSeed[s.voxel] = 1;
+    // One queue for all fronts, keeping each front's own times (the per-front minimum, as if each
+    // marched alone over the block). A (voxel, label) entry holds label l's time at the voxel; a
+    // voxel's best entry is in `out` (time, and the label with the flags below), any others in a
+    // list (`pool`, its head per voxel in the hash map `headKey`/`headVal`). The dense entry is
+    // always the voxel's best (time, label), so it settles first and is the winner. Front l's
+    // update at a voxel is the Godunov update from l's own times at the face neighbours
+    // (settled or not, as in a lone march), whatever label holds them, at the slowness of l (the
+    // float product of a front marched alone), so wherever l propagates its times are those of
+    // its own march, bit for bit. Front l stops at a voxel y where it is dominated: some label m
+    // with speed >= l's has settled y with T_m(y) + margin <= T_l(y), margin = kDominanceSteps
+    // times l's largest finite one-voxel cost at y and its face neighbours; from there l creates
+    // no entries, only lowers those of l that its neighbours already have. Beyond y, m reaches
+    // everything at least as early as l does, so l cannot win there; and a voxel z that l wins
+    // does not take l's time from a dominated neighbour y: T_l(y) < T_l(z) <= T_m(z) <= T_m(y) +
+    // (m's cost at z) would need the margin under one step. Three steps, not one: a first-order
+    // update depends (a little) on every voxel between it and the source along monotone lattice
+    // paths, not only near its ray, so near a boundary a front's time can take in its time from
+    // where it stopped; with three steps the shipped scenarios give the lone marches' outputs
+    // byte for byte and random tests the same labels (docs/model.md "Zones"). Popping follows
+    // (time, voxel, label) and the march is serial, so the result does not depend on the thread
+    // count.
+    constexpr double kDominanceSteps = 3.0;
+    constexpr std::int32_t kSettled = std::int32_t(1) << 30;  // the entry has been popped
+    constexpr std::int32_t kSeed = std::int32_t(1) << 29;     // a seed: its time stays
+    constexpr std::int32_t kMore = std::int32_t(1) << 28;     // dense code only: the voxel has a list
+    constexpr std::int32_t kLabelMask = kMore - 1;
+    CAVESIM_CHECK(labelSpeed.size() < std::size_t(kMore), "marchLabelled: too many labels");
+    std::vector<float> inverseSpeed(labelSpeed.size());
+    for (std::size_t l = 0; l < labelSpeed.size(); ++l) inverseSpeed[l] = float(1.0 / labelSpeed[l]);
+    Grid3<double>& time = out.time;
+    Grid3<std::int32_t>& code = out.label;
+    struct Extra {
+        double time;
+        std::int32_t code;
+        std::int32_t next;
+    };
+    std::vector<Extra> pool;
+    // Open-addressed map voxel -> first list entry (voxels with more than one label only).
+    std::vector<std::uint64_t> headKey(1024, ~std::uint64_t(0));
+    std::vector<std::int32_t> headVal(1024, -1);
+    std::size_t headCount = 0;
+    const auto slotOf = [&](std::uint64_t key) {
+        const std::size_t mask = headKey.size() - 1;
+        std::size_t h = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+        while (headKey[h] != key && headKey[h] != ~std::uint64_t(0)) h = (h + 1) & mask;
+        return h;
+    };
+    const auto headOf = [&](std::size_t n) -> std::int32_t& {
+        std::size_t h = slotOf(n);
+        if (headKey[h] == ~std::uint64_t(0)) {
+            if (2 * (headCount + 1) > headKey.size()) {
+                std::vector<std::uint64_t> oldKey(headKey.size() * 2, ~std::uint64_t(0));
+                std::vector<std::int32_t> oldVal(headVal.size() * 2, -1);
+                oldKey.swap(headKey);
+                oldVal.swap(headVal);
+                for (std::size_t s = 0; s < oldKey.size(); ++s)
+                    if (oldKey[s] != ~std::uint64_t(0)) {
+                        const std::size_t t = slotOf(oldKey[s]);
+                        headKey[t] = oldKey[s];
+                        headVal[t] = oldVal[s];
+                    }
+                h = slotOf(n);
             }
-            bool any = false;
-            for (std::size_t n = 0; n < dims.count(); ++n)
-                if (isSeed[n]) {
-                    heap.push({time[n], n});
-                    any = true;
-                }
-            if (!any) return;
-            marched[label] = 1;
-            const float inv = float(1.0 / labelSpeed[label]);
-            Grid3<float> labelSlowness(dims);
-            for (std::size_t n = 0; n < dims.count(); ++n) labelSlowness[n] = (slowness ? (*slowness)[n] : 1.0f) * inv;
-            relax(dims, labelSlowness, isSeed, kInf, Stencil::kFace6, time, heap, nullptr);
-        });
-        for (std::size_t k = 0; k < count; ++k) {
-            if (!marched[first + k]) continue;
-            const Grid3<double>& time = times[k];
-            for (std::size_t n = 0; n < dims.count(); ++n)
-                if (time[n] < out.time[n]) {  // strict: on a tie the lower label, merged first, keeps the voxel
-                    out.time[n] = time[n];
-                    out.label[n] = std::int32_t(first + k);
-                }
+            headKey[h] = n;
+            ++headCount;
         }
+        return headVal[h];
+    };
+    struct Ref {
+        double* time;
+        std::int32_t* code;
+    };
+    const auto find = [&](std::size_t n, std::int32_t l) -> Ref {
+        const std::int32_t c = code[n];
+        if (c < 0) return {nullptr, nullptr};
+        if ((c & kLabelMask) == l) return {&time[n], &code[n]};
+        if (!(c & kMore)) return {nullptr, nullptr};
+        for (std::int32_t e = headOf(n); e >= 0; e = pool[std::size_t(e)].next)
+            if ((pool[std::size_t(e)].code & kLabelMask) == l)
+                return {&pool[std::size_t(e)].time, &pool[std::size_t(e)].code};
+        return {nullptr, nullptr};
+    };
+    const auto timeOf = [&](std::size_t n, std::int32_t l) {
+        const std::int32_t c = code[n];
+        if (c >= 0 && (c & kLabelMask) == l) return time[n];
+        if (c < 0 || !(c & kMore)) return kInf;
+        const Ref r = find(n, l);
+        return r.time ? *r.time : kInf;
+    };
+    struct Entry {
+        double time;
+        std::size_t voxel;
+        std::int32_t label;
+        bool operator>(const Entry& o) const {
+            return time != o.time ? time > o.time : voxel != o.voxel ? voxel > o.voxel : label > o.label;
+        }
+    };
+    std::vector<Entry> heap;
+    const auto push = [&](double t, std::size_t n, std::int32_t l) {
+        heap.push_back({t, n, l});
+        std::push_heap(heap.begin(), heap.end(), std::greater<Entry>());
+    };
+    // Sets label l's time at voxel n to t (creating the entry), keeping the best pair in `out`.
+    const auto put = [&](std::size_t n, std::int32_t l, double t, std::int32_t flags) {
+        Ref r = find(n, l);
+        if (!r.time) {
+            if (code[n] < 0) {
+                time[n] = t;
+                code[n] = l | flags;
+                return;
+            }
+            std::int32_t& head = headOf(n);
+            pool.push_back({t, l | flags, head});
+            CAVESIM_CHECK(pool.size() < std::size_t(std::numeric_limits<std::int32_t>::max()),
+                          "marchLabelled: too many entries");
+            head = std::int32_t(pool.size() - 1);
+            code[n] |= kMore;
+            r = {&pool.back().time, &pool.back().code};
+        } else {
+            *r.time = t;
+            *r.code |= flags;
+        }
+        if (r.code == &code[n]) return;
+        // A list entry better than the unsettled dense one trades places with it.
+        const std::int32_t d = code[n];
+        if (d & kSettled) return;
+        if (t < time[n] || (t == time[n] && l < (d & kLabelMask))) {
+            std::swap(*r.time, time[n]);
+            const std::int32_t moved = *r.code;
+            *r.code = d & ~kMore;
+            code[n] = moved | kMore;
+        }
+    };
+    for (const Seed& s : seeds) {
+        const Ref r = find(s.voxel, s.label);
+        if (!r.time || s.value < *r.time) put(s.voxel, s.label, s.value, kSeed);
     }
+    for (const Seed& s : seeds)
+        if (*find(s.voxel, s.label).time == s.value) heap.push_back({s.value, s.voxel, s.label});
+    std::sort(heap.begin(), heap.end(), std::greater<Entry>());  // a sorted descending vector is a heap
+    heap.erase(std::unique(heap.begin(), heap.end(),
+                           [](const Entry& a, const Entry& b) {
+                               return a.time == b.time && a.voxel == b.voxel && a.label == b.label;
+                           }),
+               heap.end());
+    std::make_heap(heap.begin(), heap.end(), std::greater<Entry>());
+    const std::size_t sx = 1, sy = std::size_t(dims.nx), sz = std::size_t(dims.nx) * std::size_t(dims.ny);
+    const auto cost = [&](std::size_t n, std::int32_t l) {
+        return (slowness ? (*slowness)[n] : 1.0f) * inverseSpeed[std::size_t(l)];
+    };
+    // Label l at voxel q (time v) is dominated by a settled label of at least its speed.
+    const auto dominated = [&](std::size_t q, const Index3& p, std::int32_t l, double v) {
+        double best = kInf;
+        const auto consider = [&](double t, std::int32_t c) {
+            const std::int32_t m = c & kLabelMask;
+            if ((c & kSettled) && m != l && labelSpeed[std::size_t(m)] >= labelSpeed[std::size_t(l)])
+                best = std::min(best, t);
+        };
+        consider(time[q], code[q]);
+        if (code[q] & kMore)
+            for (std::int32_t e = headOf(q); e >= 0; e = pool[std::size_t(e)].next)
+                consider(pool[std::size_t(e)].time, pool[std::size_t(e)].code);
+        if (!(best < v)) return false;
+        float step = 0;
+        const auto widen = [&](std::size_t n) {
+            const float f = cost(n, l);
+            if (f < std::numeric_limits<float>::infinity()) step = std::max(step, f);
+        };
+        widen(q);
+        if (p.i > 0) widen(q - sx);
+        if (p.i + 1 < dims.nx) widen(q + sx);
+        if (p.j > 0) widen(q - sy);
+        if (p.j + 1 < dims.ny) widen(q + sy);
+        if (p.k > 0) widen(q - sz);
+        if (p.k + 1 < dims.nz) widen(q + sz);
+        return best + kDominanceSteps * double(step) <= v;
+    };
+    while (!heap.empty()) {
+        const Entry e = heap.front();
+        std::pop_heap(heap.begin(), heap.end(), std::greater<Entry>());
+        heap.pop_back();
+        const std::size_t q = e.voxel;
+        const std::int32_t l = e.label;
+        const double v = e.time;
+        const Ref self = find(q, l);
+        if ((*self.code & kSettled) || v != *self.time) continue;  // settled already, or a stale entry
+        *self.code |= kSettled;
+        const Index3 p = dims.coord(q);
+        const bool stop = self.code != &code[q] && dominated(q, p, l, v);
+        const auto visit = [&](std::size_t r, int i, int j, int k) {
+            const Ref target = find(r, l);
+            if (stop && !target.time) return;
+            if (target.time && ((*target.code & (kSettled | kSeed)) || *target.time <= v)) return;
+            const double ax = std::min(i > 0 ? timeOf(r - sx, l) : kInf, i + 1 < dims.nx ? timeOf(r + sx, l) : kInf);
+            const double ay = std::min(j > 0 ? timeOf(r - sy, l) : kInf, j + 1 < dims.ny ? timeOf(r + sy, l) : kInf);
+            const double az = std::min(k > 0 ? timeOf(r - sz, l) : kInf, k + 1 < dims.nz ? timeOf(r + sz, l) : kInf);
+            const double u = upwindUpdate(ax, ay, az, cost(r, l));
+            if (target.time ? u < *target.time : u < kInf) {
+                put(r, l, u, 0);
+                push(u, r, l);
+            }
+        };
+        if (p.i > 0) visit(q - sx, p.i - 1, p.j, p.k);
+        if (p.i + 1 < dims.nx) visit(q + sx, p.i + 1, p.j, p.k);
+        if (p.j > 0) visit(q - sy, p.i, p.j - 1, p.k);
+        if (p.j + 1 < dims.ny) visit(q + sy, p.i, p.j + 1, p.k);
+        if (p.k > 0) visit(q - sz, p.i, p.j, p.k - 1);
+        if (p.k + 1 < dims.nz) visit(q + sz, p.i, p.j, p.k + 1);
+    }
+    for (std::int32_t& c : code.data)
+        if (c >= 0) c &= kLabelMask;
     return out;
 }
 

@@ -4,8 +4,8 @@
 /// stencil uses a bucket queue where the buckets can be as narrow as its smallest edge cost).
 ///
 /// Two uses in cavesim (Pytel & Mann, JCGT 2015):
-///  - `marchLabelled`: several labelled fronts race; every voxel takes the label of the front that
-///    reaches it first (stage 1 pressure zones, paper §3.1).
+///  - `marchLabelled`: several labelled fronts race in one queue; every voxel takes the label of
+///    the front that reaches it first (stage 1 pressure zones, paper §3.1).
 ///  - `EikonalField`: the stage-2 pressure front (paper §3.2), P(x) = min(cap, arrival time)
 ///    with per-voxel rise rate = slowness, solved once and then updated incrementally when rates
 ///    only fall (the "avalanche": decrease-only re-propagation from the changed voxels).
@@ -39,18 +39,30 @@ struct LabelledArrival {
     Grid3<std::int32_t> label;
 };
 
-/// Several fronts march at once through a shared slowness field; front `l` moves with speed
-/// `labelSpeed[l] / slowness(x)` (so its arrival time solves |∇T| = slowness / labelSpeed[l]).
-/// Each voxel joins the front that arrives first (ties: the lower label). Fronts march
-/// independently, so with uniform slowness the zones are the multiplicatively weighted Voronoi
-/// cells: a bisector plane for equal speeds, an Apollonius sphere for unequal ones. One march per
-/// label: cost O(labels · voxels · log voxels); the marches run in parallel (one per worker) and
-/// are merged in label order, so the result does not depend on the thread count.
+/// Several fronts march at once through a shared slowness field, in one queue: front `l` moves with
+/// speed `labelSpeed[l] / slowness(x)` (its arrival time solves |∇T| = slowness / labelSpeed[l]),
+/// and each voxel joins the front with the smallest arrival time (ties: the lower label), each
+/// front's time being that of the front marched alone over the whole grid (first-order Godunov,
+/// 6 neighbours): the per-front minimum. With uniform slowness the zones are the multiplicatively
+/// weighted Voronoi cells: a bisector plane for equal speeds, an Apollonius sphere for unequal
+/// ones, which the faster front crosses. A voxel keeps a time per front that reaches it; front `l`
+/// stops propagating at a voxel where a front at least as fast settled three of `l`'s steps
+/// earlier (it cannot win beyond). Exact where front `l` propagates; a time beside a zone boundary
+/// may differ from the lone march in the last digits (it can take in, with a tiny weight, `l`'s
+/// time from where `l` stopped), so labels may differ only at near-ties (docs/model.md "Zones").
+/// Cost O(voxels · log voxels) plus the overlap: a band of about 1.5 voxels per side of a boundary
+/// for equal speeds, the weaker zones crossed by the faster fronts for unequal ones. Serial, and
+/// ordered by (time, voxel, label), so the result does not depend on the thread count, and an
+/// input mirrored in x, y or z (slowness and seeds, each seed keeping its label) gives the
+/// mirrored result.
 /// @param dims        the grid
 /// @param slowness    per-voxel slowness, > 0, or +inf for impassable; nullptr = 1 everywhere
-/// @param seeds       starting voxels; a voxel listed twice keeps the smaller value (lower label on ties)
+/// @param seeds       starting voxels with their starting times (finite, ≥ 0); a voxel listed
+///                    twice for one label keeps the smaller time; a seed's time stays its
+///                    label's time there, and another label arriving earlier takes the voxel
 /// @param labelSpeed  speed factor of each label, > 0
-/// @throw cavesim::InternalError on a seed outside the grid, a negative label or a label without speed
+/// @throw cavesim::InternalError on a seed outside the grid, a negative label, a label without
+///        speed or a seed time that is negative or not finite
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
                               const std::vector<double>& labelSpeed);
 

@@ -516,7 +516,7 @@ std::vector<ParamSection> makeRegistry() {
     source.notes =
         "At least one source is required when a stage is enabled; stage 2 requires at least one sink.\n"
         "At most 256 `[[source]]` and 256 `[[sink]]` entries (each may be a box of many voxels): stage 1\n"
-        "marches one zone front per source over the whole grid.";
+        "divides the block into one zone per source and solves a flow network in each.";
     source.params[0].required = false;  // `at` or `box`: the parser checks that one is given
     source.limitReason = "one [[source]] may be a box of many voxels";
     source.setLine = [](void* r, int line) { static_cast<SourceSpec*>(r)->line = line; };

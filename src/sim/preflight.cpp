@@ -13,14 +13,15 @@ namespace cavesim {
 namespace {
 
 // Bytes per voxel of the block (see bench/README.md, "Pre-flight", for the measured peaks).
-constexpr double kProgramBytes = 64e6;     // the program, TBB, OpenVDB, before any grid
-constexpr double kDomainBytes = 25;        // porosity, porosity0, pressure, water, flow (float), zone (int32), flags
-constexpr double kMarchBytes = 12;         // the zone march's merged time (double) and label (int32)
-constexpr double kMarchPerThread = 13;     // per front marching at once: time (double), slowness (float), seed flag
-constexpr double kStage2DenseBytes = 22;   // water (double), rate (float), pressure (double), seed + scratch flags
-constexpr double kStage2ActiveBytes = 80;  // per voxel of an active tile: 9 doubles of transients, masks
-constexpr double kActiveShare = 0.6;       // share of the block's tiles that water reaches (fig10 k = 1…4: 0.4–0.5)
-constexpr double kOutputBytes = 40;        // the state grids as OpenVDB trees while state.vdb is written
+constexpr double kProgramBytes = 64e6;       // the program, TBB, OpenVDB, before any grid
+constexpr double kDomainBytes = 25;          // porosity, porosity0, pressure, water, flow (float), zone (int32), flags
+constexpr double kMarchBytes = 12;           // the zone march's time (double) and label (int32)
+constexpr double kMarchScratch = 7;          // while it marches: slowness (float), the queue, the boundary bands (~3)
+constexpr double kMarchScratchUnequal = 31;  // with unequal pressures: the stronger fronts' times in weaker zones
+constexpr double kStage2DenseBytes = 22;     // water (double), rate (float), pressure (double), seed + scratch flags
+constexpr double kStage2ActiveBytes = 80;    // per voxel of an active tile: 9 doubles of transients, masks
+constexpr double kActiveShare = 0.6;  // share of the block's tiles that water reaches (fig10 k = 1…4: 0.4–0.5)
+constexpr double kOutputBytes = 40;   // the state grids as OpenVDB trees while state.vdb is written
 
 // Rough time: ns per voxel for the fixed work, ns per voxel-iteration of stage 2.
 constexpr double kFixedNs = 5000;
@@ -51,14 +52,22 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
     const double n = double(s.size[0]) * double(s.size[1]) * double(s.size[2]);
     e.voxels = n;
     const double domain = kDomainBytes * n;
-    const double sources = double(s.sources.size() + (s.recharge.empty() ? 0 : rechargeSources(s).size()));
+    std::vector<SourceSpec> all = s.sources;
+    if (!s.recharge.empty())
+        for (const SourceSpec& r : rechargeSources(s)) all.push_back(r);
+    const double sources = double(all.size());
+    // With unequal pressures the stronger fronts cross the weaker zones (scale_512: 19 bytes a
+    // voxel in all with equal pressures, 43 with pressures 3, 1.5, 1, 1, 2, 1; bench/README.md).
+    bool unequal = false;
+    for (const SourceSpec& src : all) unequal = unequal || src.pressure != all.front().pressure;
     if (s.stage1.enabled && sources > 0) {
         const double atOnce = std::min(sources, double(std::max(1, threads)));
         // The largest network: the largest zone, or the neighbourhood its network is limited to.
         const double zone =
             std::min({kLargestZone * n / sources, n, double(s.stage1.networkVoxels), double(s.stage1.maxGraphVoxels)});
         e.stage1Bytes =
-            domain + kMarchBytes * n + std::max(atOnce * kMarchPerThread * n, atOnce * stage1NetworkBytes(zone));
+            domain + kMarchBytes * n +
+            std::max((unequal ? kMarchScratchUnequal : kMarchScratch) * n, atOnce * stage1NetworkBytes(zone));
     }
     if (s.stage2.enabled) e.stage2Bytes = domain + kStage2DenseBytes * n + kActiveShare * kStage2ActiveBytes * n;
     e.outputBytes = domain + kOutputBytes * n;

@@ -1,14 +1,15 @@
 /// @file stage1.h
 /// @brief Stage 1 of Pytel & Mann (JCGT 2015, §3.1, §5): pressure zones and protochannels.
 ///
-///  1. **Pressure zones** (fast marching, src/fastmarch): one front per source, all marching at
-///     once; source i's front moves with speed p_i (its `pressure`), with `[stage1] permeability
-///     = "porosity"` (the default) times R(x)/R̄ — the local porosity over the domain's mean — so
-///     fronts hurry along fractures and bedding planes, crawl through obstacles and never enter
-///     rock of porosity 0. Each voxel joins the front that reaches it first (ties: the lower
-///     source); voxels no front reaches keep zone −1. In uniform rock this is the multiplicatively
-///     weighted Voronoi division: equal pressures split on the bisector, 2 : 1 on an Apollonius
-///     sphere (paper Figure 5).
+///  1. **Pressure zones** (fast marching, src/fastmarch `marchLabelled`): one queue for all
+///     sources' fronts; source i's front moves with speed p_i (its `pressure`), with `[stage1]
+///     permeability = "porosity"` (the default) times R(x)/R̄ — the local porosity over the
+///     domain's mean — so fronts hurry along fractures and bedding planes, crawl through
+///     obstacles and never enter rock of porosity 0. Each voxel joins the front that reaches it
+///     first as if each marched alone (ties: the lower source); voxels no front reaches keep zone
+///     −1. In uniform rock this is the multiplicatively weighted Voronoi division: equal
+///     pressures split on the bisector, 2 : 1 on an Apollonius sphere (paper Figure 5;
+///     docs/model.md "Zones").
 ///  2. **Flow network per zone** (src/flownet/flow_network.h): the zone's voxels except sinks
 ///     (inactive in stage 1) and the voxels within `sinkGap` of a sink (Chebyshev distance: the
 ///     rock kept between protochannels and sinks; source voxels stay) are nodes; pairs of the 26
