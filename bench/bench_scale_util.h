@@ -4,10 +4,10 @@
 
 #include <sys/resource.h>
 
-#include <cstring>
 #include <fstream>
 #include <string>
 
+#include "core/memory.h"
 #include "sim/scenario_io.h"
 
 namespace cavesim::bench {
@@ -39,12 +39,10 @@ inline Scenario scaledFig10(int k, int pad = 1) {
 }
 
 /// The value, in kB, of the /proc/self/status line starting with `key` ("VmRSS:", "VmHWM:"); 0 if none.
-inline double statusKb(const char* key) {
-    std::ifstream f("/proc/self/status");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind(key, 0) == 0) return std::stod(line.substr(std::strlen(key)));
-    return 0;
+inline double statusKb(const std::string& key) {
+    std::string text;
+    const std::string name = key.substr(0, key.find(':'));
+    return readWholeFile("/proc/self/status", text) ? parseProcKilobytes(text, name) / 1024.0 : 0;
 }
 
 /// Resets VmHWM to the current resident size (Linux: clear_refs 5).
