@@ -12,16 +12,6 @@
 namespace cavesim::app {
 namespace {
 
-const nlohmann::json& get(const nlohmann::json& j, std::initializer_list<const char*> path) {
-    static const nlohmann::json null;
-    const nlohmann::json* cur = &j;
-    for (const char* k : path) {
-        if (!cur->is_object() || !cur->contains(k)) return null;
-        cur = &(*cur)[k];
-    }
-    return *cur;
-}
-
 std::string fmt(const nlohmann::json& v, int digits = 3) {
     return formatValue(v, digits);
 }
@@ -44,12 +34,12 @@ struct KarstnetCount {
 
 KarstnetCount karstnetCount(const nlohmann::json& report) {
     KarstnetCount c;
-    const nlohmann::json& gm = get(report, {"graph_metrics"});
+    const nlohmann::json& gm = reportValue(report, {"graph_metrics"});
     if (!gm.is_object()) return c;
-    c.tooSmall = get(gm, {"too_small"}).is_boolean() && get(gm, {"too_small"}).get<bool>();
+    c.tooSmall = reportValue(gm, {"too_small"}).is_boolean() && reportValue(gm, {"too_small"}).get<bool>();
     for (const char* key : kNetworkMetricKeys) {
         const morpho::ReferenceRange* r = morpho::findReferenceRange(key, "real caves", 0);
-        const nlohmann::json& v = get(gm, {key});
+        const nlohmann::json& v = reportValue(gm, {key});
         if (!r || !v.is_number()) continue;
         ++c.compared;
         const double x = v.get<double>();
@@ -72,10 +62,11 @@ std::string karstnetCell(const KarstnetCount& c) {
 
 /// Breakthrough iterations: one, or one per base-level phase ("150 / – / 684").
 std::string breakthroughCell(const nlohmann::json& report) {
-    const nlohmann::json& phases = get(report, {"stage2", "phases"});
-    if (!phases.is_array() || phases.empty()) return fmt(get(report, {"stage2", "breakthrough_iteration"}));
+    const nlohmann::json& phases = reportValue(report, {"stage2", "phases"});
+    if (!phases.is_array() || phases.empty()) return fmt(reportValue(report, {"stage2", "breakthrough_iteration"}));
     std::string out;
-    for (const nlohmann::json& p : phases) out += (out.empty() ? "" : " / ") + fmt(get(p, {"breakthrough_iteration"}));
+    for (const nlohmann::json& p : phases)
+        out += (out.empty() ? "" : " / ") + fmt(reportValue(p, {"breakthrough_iteration"}));
     return out;
 }
 
@@ -96,13 +87,14 @@ std::string geologyPictureName(const std::string& scenario) {
 }
 
 int passageLevels(const nlohmann::json& crossSections) {
-    const nlohmann::json& passages = get(crossSections, {"passages"});
+    const nlohmann::json& passages = reportValue(crossSections, {"passages"});
     if (!passages.is_array()) return 0;
     std::vector<std::pair<double, double>> extents;  // [bottom, top] in metres
     for (const nlohmann::json& p : passages) {
-        const nlohmann::json& cls = get(p, {"class"});
+        const nlohmann::json& cls = reportValue(p, {"class"});
         if (!cls.is_string() || (cls != "tube" && cls != "keyhole")) continue;
-        const nlohmann::json &lo = get(p, {"z_min_m"}), &hi = get(p, {"z_max_m"}), &h = get(p, {"height_m"});
+        const nlohmann::json &lo = reportValue(p, {"z_min_m"}), &hi = reportValue(p, {"z_max_m"}),
+                             &h = reportValue(p, {"height_m"});
         if (!lo.is_number() || !hi.is_number()) continue;
         const double half = h.is_number() ? h.get<double>() / 2 : 0.0;
         extents.push_back({lo.get<double>() - half, hi.get<double>() + half});
@@ -137,11 +129,12 @@ std::string geologySettingsMarkdown(const std::vector<GeologyRun>& runs, int thr
           "breakthrough | run time (s) |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const GeologyRun& run : runs) {
         const nlohmann::json& r = run.report;
-        md << "| [" << run.scenario << "](#" << run.scenario << ") | " << fmt(get(r, {"pattern", "class"})) << " | "
-           << metres(get(r, {"morphometry", "length_m"})) << " | " << fmt(get(r, {"pattern", "criteria", "branches"}))
-           << " | " << fmt(get(r, {"pattern", "criteria", "loops"})) << " | " << karstnetCell(karstnetCount(r)) << " | "
-           << passageLevels(get(r, {"cross_sections"})) << " | " << breakthroughCell(r) << " | "
-           << fmt(get(r, {"timing_s", "total"}), 2) << " |\n";
+        md << "| [" << run.scenario << "](#" << run.scenario << ") | " << fmt(reportValue(r, {"pattern", "class"}))
+           << " | " << metres(reportValue(r, {"morphometry", "length_m"})) << " | "
+           << fmt(reportValue(r, {"pattern", "criteria", "branches"})) << " | "
+           << fmt(reportValue(r, {"pattern", "criteria", "loops"})) << " | " << karstnetCell(karstnetCount(r)) << " | "
+           << passageLevels(reportValue(r, {"cross_sections"})) << " | " << breakthroughCell(r) << " | "
+           << fmt(reportValue(r, {"timing_s", "total"}), 2) << " |\n";
     }
     md << "\n**Pattern**: report.json `pattern.class` (Palmer 1991). **Passage length**: the skeleton's length "
           "(`morphometry.length_m`). **Branches**, **loops**: the classification's counts (`pattern.criteria`). "
@@ -155,8 +148,8 @@ std::string geologySettingsMarkdown(const std::vector<GeologyRun>& runs, int thr
     for (const GeologyRun& run : runs) {
         const nlohmann::json& r = run.report;
         md << "\n## " << run.scenario << "\n\n`scenarios/" << run.scenario << ".toml`, seed " << kGeologySeed;
-        const nlohmann::json& grid = get(r, {"grid"});
-        const nlohmann::json& h = get(r, {"voxel_size_m"});
+        const nlohmann::json& grid = reportValue(r, {"grid"});
+        const nlohmann::json& h = reportValue(r, {"voxel_size_m"});
         if (grid.is_array() && grid.size() == 3 && h.is_number()) {
             md << ": " << fmt(grid[0]) << " × " << fmt(grid[1]) << " × " << fmt(grid[2]) << " voxels of " << fmt(h)
                << " m";
@@ -165,17 +158,18 @@ std::string geologySettingsMarkdown(const std::vector<GeologyRun>& runs, int thr
                    << fmt(grid[1].get<double>() * h.get<double>()) << " × "
                    << fmt(grid[2].get<double>() * h.get<double>()) << " m)";
         }
-        md << ", " << fmt(get(r, {"stage2", "iterations"})) << " stage-2 iterations.\n\n";
-        md << "- Pattern: **" << fmt(get(r, {"pattern", "class"})) << "** (" << fmt(get(r, {"pattern", "rule"}))
-           << "); " << fmt(get(r, {"pattern", "criteria", "branches"})) << " branches, "
-           << fmt(get(r, {"pattern", "criteria", "loops"})) << " loops ("
-           << fmt(get(r, {"pattern", "criteria", "loops_per_branch"})) << " per branch), share of length in one bed "
-           << fmt(get(r, {"pattern", "criteria", "bed_share"}));
-        const nlohmann::json& family = get(r, {"pattern", "criteria", "family_share"});
+        md << ", " << fmt(reportValue(r, {"stage2", "iterations"})) << " stage-2 iterations.\n\n";
+        md << "- Pattern: **" << fmt(reportValue(r, {"pattern", "class"})) << "** ("
+           << fmt(reportValue(r, {"pattern", "rule"})) << "); "
+           << fmt(reportValue(r, {"pattern", "criteria", "branches"})) << " branches, "
+           << fmt(reportValue(r, {"pattern", "criteria", "loops"})) << " loops ("
+           << fmt(reportValue(r, {"pattern", "criteria", "loops_per_branch"}))
+           << " per branch), share of length in one bed " << fmt(reportValue(r, {"pattern", "criteria", "bed_share"}));
+        const nlohmann::json& family = reportValue(r, {"pattern", "criteria", "family_share"});
         if (!family.is_null()) md << ", along the fracture families " << fmt(family);
         md << ".\n";
-        md << "- Passage length " << metres(get(r, {"morphometry", "length_m"})) << " m, vertical range "
-           << fmt(get(r, {"morphometry", "vertical_range_m"})) << " m.\n";
+        md << "- Passage length " << metres(reportValue(r, {"morphometry", "length_m"})) << " m, vertical range "
+           << fmt(reportValue(r, {"morphometry", "vertical_range_m"})) << " m.\n";
         const KarstnetCount k = karstnetCount(r);
         md << "- Karstnet metrics in the real caves' range: " << karstnetCell(k);
         if (!k.tooSmall && !k.out.empty()) {
@@ -183,39 +177,39 @@ std::string geologySettingsMarkdown(const std::vector<GeologyRun>& runs, int thr
             for (std::size_t i = 0; i < k.out.size(); ++i) md << (i ? ", " : "") << k.out[i];
         }
         md << ".\n";
-        const nlohmann::json& summary = get(r, {"cross_sections", "summary"});
+        const nlohmann::json& summary = reportValue(r, {"cross_sections", "summary"});
         if (summary.is_array()) {
             md << "- Cross-sections (passages, elevation of their centrelines):";
             bool first = true;
             for (const nlohmann::json& c : summary) {
-                const nlohmann::json& n = get(c, {"passages"});
-                if (!n.is_number() || n.get<double>() <= 0 || get(c, {"class"}) == "short") continue;
-                md << (first ? " " : "; ") << fmt(get(c, {"class"})) << " " << fmt(n) << ", z "
-                   << metres(get(c, {"z_min_m"})) << "–" << metres(get(c, {"z_max_m"})) << " m (mean "
-                   << metres(get(c, {"z_mean_m"})) << ")";
+                const nlohmann::json& n = reportValue(c, {"passages"});
+                if (!n.is_number() || n.get<double>() <= 0 || reportValue(c, {"class"}) == "short") continue;
+                md << (first ? " " : "; ") << fmt(reportValue(c, {"class"})) << " " << fmt(n) << ", z "
+                   << metres(reportValue(c, {"z_min_m"})) << "–" << metres(reportValue(c, {"z_max_m"})) << " m (mean "
+                   << metres(reportValue(c, {"z_mean_m"})) << ")";
                 first = false;
             }
-            md << (first ? " none" : "") << "; " << passageLevels(get(r, {"cross_sections"}))
+            md << (first ? " none" : "") << "; " << passageLevels(reportValue(r, {"cross_sections"}))
                << " level(s) of tubes and keyholes.\n";
         }
-        const nlohmann::json& phases = get(r, {"stage2", "phases"});
+        const nlohmann::json& phases = reportValue(r, {"stage2", "phases"});
         if (phases.is_array() && !phases.empty()) {
             md << "- Base-level phases:";
             int i = 0;
             for (const nlohmann::json& p : phases) {
-                const nlohmann::json &first = get(p, {"first_iteration"}), &n = get(p, {"iterations"});
+                const nlohmann::json &first = reportValue(p, {"first_iteration"}), &n = reportValue(p, {"iterations"});
                 md << (i > 0 ? ";" : "") << " " << i + 1 << ") iterations " << fmt(first);
                 ++i;
                 if (first.is_number_integer() && n.is_number_integer())
                     md << "–" << first.get<long long>() + n.get<long long>() - 1;
-                md << ", water table at z = " << fmt(get(p, {"water_table"})) << " voxels, breakthrough "
-                   << fmt(get(p, {"breakthrough_iteration"}));
+                md << ", water table at z = " << fmt(reportValue(p, {"water_table"})) << " voxels, breakthrough "
+                   << fmt(reportValue(p, {"breakthrough_iteration"}));
             }
             md << ".\n";
         } else {
             md << "- Breakthrough at iteration " << breakthroughCell(r) << ".\n";
         }
-        md << "- Run time " << fmt(get(r, {"timing_s", "total"}), 2) << " s.\n\n";
+        md << "- Run time " << fmt(reportValue(r, {"timing_s", "total"}), 2) << " s.\n\n";
         md << "![" << run.scenario << ", seed " << kGeologySeed << ", " << run.view << "](images/"
            << geologyPictureName(run.scenario) << ")\n";
     }
