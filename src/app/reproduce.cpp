@@ -119,7 +119,7 @@ DocTarget checkedDocTarget(const std::string& docPath) {
     if (::access(folder.c_str(), W_OK | X_OK) != 0)
         throw InputError(shown + ": the folder " + folder.string() + " cannot be written");
     const fs::path images = folder / "images";
-    if (fs::exists(fs::symlink_status(images, ec)) || fs::is_symlink(fs::symlink_status(images, ec))) {
+    if (fs::exists(fs::symlink_status(images, ec))) {  // a symlink, dangling or not, exists
         if (!fs::is_directory(images, ec))
             throw InputError(shown + ": " + images.string() + " (the pictures' folder) is not a folder");
         if (::access(images.c_str(), W_OK | X_OK) != 0)
