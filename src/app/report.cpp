@@ -152,6 +152,16 @@ std::string formatValue(const nlohmann::json& v, int digits) {
     return v.dump();
 }
 
+const nlohmann::json& reportValue(const nlohmann::json& j, std::initializer_list<const char*> path) {
+    static const nlohmann::json null;
+    const nlohmann::json* cur = &j;
+    for (const char* k : path) {
+        if (!cur->is_object() || !cur->contains(k)) return null;
+        cur = &(*cur)[k];
+    }
+    return *cur;
+}
+
 namespace {
 
 const nlohmann::json& at(const nlohmann::json& j, const std::string& a, const std::string& b = "") {

@@ -2,6 +2,7 @@
 /// @brief report.json and report.md: what was simulated, what happened, and how the cave measures.
 #pragma once
 
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -117,5 +118,9 @@ std::string paperIndexText(const PaperCave& paper, int row);
 
 /// A report value as text: integers as they are, reals to `digits` significant digits, null "–".
 std::string formatValue(const nlohmann::json& v, int digits = 3);
+
+/// The value at `path` in the document `j`, one key per level of nested objects (e.g.
+/// {"pattern", "criteria", "loops"}), or null when a key is missing or a level is not an object.
+const nlohmann::json& reportValue(const nlohmann::json& j, std::initializer_list<const char*> path);
 
 }  // namespace cavesim::app

@@ -94,16 +94,6 @@ std::string fmt(const nlohmann::json& v) {
     return formatValue(v);
 }
 
-const nlohmann::json& get(const nlohmann::json& j, std::initializer_list<const char*> path) {
-    static const nlohmann::json null;
-    const nlohmann::json* cur = &j;
-    for (const char* k : path) {
-        if (!cur->is_object() || !cur->contains(k)) return null;
-        cur = &(*cur)[k];
-    }
-    return *cur;
-}
-
 /// Where a reproduction writes into the docs: the Markdown file and the pictures' folder beside it.
 struct DocTarget {
     fs::path doc;
@@ -129,7 +119,7 @@ DocTarget checkedDocTarget(const std::string& docPath) {
     if (::access(folder.c_str(), W_OK | X_OK) != 0)
         throw InputError(shown + ": the folder " + folder.string() + " cannot be written");
     const fs::path images = folder / "images";
-    if (fs::exists(fs::symlink_status(images, ec)) || fs::is_symlink(fs::symlink_status(images, ec))) {
+    if (fs::exists(fs::symlink_status(images, ec))) {  // a symlink, dangling or not, exists
         if (!fs::is_directory(images, ec))
             throw InputError(shown + ": " + images.string() + " (the pictures' folder) is not a folder");
         if (::access(images.c_str(), W_OK | X_OK) != 0)
@@ -276,18 +266,19 @@ void reproducePaper(const ReproduceOptions& opt, const LogFn& log) {
 
         md << "## " << fig->title << "\n\n**Paper.** " << fig->paper << "\n\n**Ours** (`scenarios/" << fig->scenario
            << ".toml`, " << s.size[0] << "×" << s.size[1] << "×" << s.size[2] << " voxels of " << s.voxelSize << " m, "
-           << fmt(get(r, {"timing_s", "total"})) << " s). ";
-        if (!get(r, {"stage1"}).is_null())
-            md << "Stage 1: zone voxels per source " << get(r, {"stage1", "zone_voxels"}).dump() << ", "
-               << fmt(get(r, {"stage1", "protochannel_voxels"})) << " protochannel voxels. ";
-        if (!get(r, {"stage2"}).is_null())
-            md << "Stage 2: breakthrough at iteration " << fmt(get(r, {"stage2", "breakthrough_iteration"}))
-               << ", sources joined a sink at iterations " << get(r, {"stage2", "source_connected_iteration"}).dump()
-               << "; " << fmt(get(r, {"network", "sources_connected"})) << " of "
-               << fmt(get(r, {"network", "sources_total"})) << " sources connected, "
-               << fmt(get(r, {"network", "tributary_captures"})) << " tributary capture(s), "
-               << fmt(get(r, {"network", "phreatic_loops"})) << " phreatic loop(s), "
-               << fmt(get(r, {"network", "confluences"})) << " confluence(s). ";
+           << fmt(reportValue(r, {"timing_s", "total"})) << " s). ";
+        if (!reportValue(r, {"stage1"}).is_null())
+            md << "Stage 1: zone voxels per source " << reportValue(r, {"stage1", "zone_voxels"}).dump() << ", "
+               << fmt(reportValue(r, {"stage1", "protochannel_voxels"})) << " protochannel voxels. ";
+        if (!reportValue(r, {"stage2"}).is_null())
+            md << "Stage 2: breakthrough at iteration " << fmt(reportValue(r, {"stage2", "breakthrough_iteration"}))
+               << ", sources joined a sink at iterations "
+               << reportValue(r, {"stage2", "source_connected_iteration"}).dump() << "; "
+               << fmt(reportValue(r, {"network", "sources_connected"})) << " of "
+               << fmt(reportValue(r, {"network", "sources_total"})) << " sources connected, "
+               << fmt(reportValue(r, {"network", "tributary_captures"})) << " tributary capture(s), "
+               << fmt(reportValue(r, {"network", "phreatic_loops"})) << " phreatic loop(s), "
+               << fmt(reportValue(r, {"network", "confluences"})) << " confluence(s). ";
         md << "\n\n";
         for (const char* pic : fig->pictures) {
             if (!pic) continue;
@@ -310,12 +301,12 @@ void reproducePaper(const ReproduceOptions& opt, const LogFn& log) {
                 std::string ours = "–";
                 for (const auto& [n, r] : rs) {
                     if (n != name) continue;
-                    const auto& m = get(r, {"morphometry"});
+                    const auto& m = reportValue(r, {"morphometry"});
                     if (row == 3)
-                        ours = fmt(get(m, {key}));
+                        ours = fmt(reportValue(m, {key}));
                     else
-                        ours = fmt(get(m, {(std::string(key) + "_opt").c_str()})) + " (" +
-                               fmt(get(m, {(std::string(key) + "_rect").c_str()})) + ")";
+                        ours = fmt(reportValue(m, {(std::string(key) + "_opt").c_str()})) + " (" +
+                               fmt(reportValue(m, {(std::string(key) + "_rect").c_str()})) + ")";
                 }
                 md << " " << ours << " | " << paperIndexText(*paperCave(name), row) << " |";
             }
@@ -349,9 +340,9 @@ void reproducePaper(const ReproduceOptions& opt, const LogFn& log) {
     table4(reports);
     md << "\nRectangle / optimised field (rectangle / convex hull): ";
     for (const auto& [n, r] : reports) {
-        const nlohmann::json& rect = get(r, {"morphometry", "a_field_rect_m2"});
-        const nlohmann::json& opt = get(r, {"morphometry", "a_field_opt_m2"});
-        const nlohmann::json& hull = get(r, {"morphometry", "a_field_hull_m2"});
+        const nlohmann::json& rect = reportValue(r, {"morphometry", "a_field_rect_m2"});
+        const nlohmann::json& opt = reportValue(r, {"morphometry", "a_field_opt_m2"});
+        const nlohmann::json& hull = reportValue(r, {"morphometry", "a_field_hull_m2"});
         if (!rect.is_number() || !opt.is_number() || !hull.is_number() || opt.get<double>() <= 0 ||
             hull.get<double>() <= 0)
             continue;
@@ -368,14 +359,15 @@ void reproducePaper(const ReproduceOptions& opt, const LogFn& log) {
     for (const auto& [n, r] : reports)
         for (const auto& [n2, r2] : withProto)
             if (n == n2)
-                md << n << " " << fmt(get(r, {"cave_category"})) << "; " << fmt(get(r2, {"cave_category"})) << ". ";
+                md << n << " " << fmt(reportValue(r, {"cave_category"})) << "; "
+                   << fmt(reportValue(r2, {"cave_category"})) << ". ";
     md << "\n\n## Network metrics (Collon et al. 2017)\n\nReal caves (34 networks): "
        << rangeList("real caves", 0, kNetworkMetricKeys)
        << ".\n\n| scenario | h_or | len_mean_m | cv_len | h_len | "
           "k_mean | r_k | spl | cpd | tortuosity |\n|---|---|---|---|---|---|---|---|---|---|\n";
     auto metricsRow = [&](const std::string& label, const nlohmann::json& r) {
         md << "| " << label << " |";
-        for (const char* k : kNetworkMetricKeys) md << " " << fmt(get(r, {"graph_metrics", k})) << " |";
+        for (const char* k : kNetworkMetricKeys) md << " " << fmt(reportValue(r, {"graph_metrics", k})) << " |";
         md << "\n";
     };
     for (const auto& [n, r] : reports) metricsRow(n, r);
@@ -388,9 +380,9 @@ void reproducePaper(const ReproduceOptions& opt, const LogFn& log) {
         const PaperCave* p = paperCave(n);
         const char* p1 = p ? p->stage1Time : "–";
         const char* p2 = p ? p->stage2Time : "–";
-        md << "| " << n << " | " << get(r, {"grid"}).dump() << " | " << fmt(get(r, {"timing_s", "stage1"})) << " | "
-           << fmt(get(r, {"timing_s", "stage2"})) << " | " << fmt(get(r, {"timing_s", "total"})) << " | " << p1 << " | "
-           << p2 << " |\n";
+        md << "| " << n << " | " << reportValue(r, {"grid"}).dump() << " | "
+           << fmt(reportValue(r, {"timing_s", "stage1"})) << " | " << fmt(reportValue(r, {"timing_s", "stage2"}))
+           << " | " << fmt(reportValue(r, {"timing_s", "total"})) << " | " << p1 << " | " << p2 << " |\n";
     }
     writeDocs(target, pictures, md.str());
     say("wrote " + target.doc.string() + " and " + std::to_string(reports.size()) + " run(s) under " + opt.outDir);
