@@ -116,6 +116,16 @@ double fullUpdate(const Dims& d, const Index3& p, const Get& get, double f, Sten
     return std::min(cap, u);
 }
 
+/// Linear offsets of the 26 neighbours in `allNeighbours()` order.
+std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
+    std::array<std::ptrdiff_t, 26> offset{};
+    for (std::size_t n = 0; n < 26; ++n) {
+        const NeighbourOffset& o = allNeighbours()[n];
+        offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
+    }
+    return offset;
+}
+
 /// Label-correcting sweep shared by `solve` and `decrease`: pops the smallest tentative value and
 /// re-evaluates its neighbours: the Godunov update of each face neighbour from the current values
 /// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
@@ -129,11 +139,7 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
     const auto get = [&](std::size_t n) { return value[n]; };
     const bool diagonal = stencil == Stencil::kAvalanche26;
     // Linear offsets of the 26 neighbours: a voxel off the block's faces needs no bounds checks.
-    std::array<std::ptrdiff_t, 26> offset{};
-    for (std::size_t n = 0; n < 26; ++n) {
-        const NeighbourOffset& o = allNeighbours()[n];
-        offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
-    }
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
     const auto lower = [&](std::size_t r, double u) {
         if (u < value[r]) {
             value[r] = u;
@@ -184,16 +190,6 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
     return changes;
 }
 
-/// Linear offsets of the 26 neighbours in `allNeighbours()` order.
-std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
-    std::array<std::ptrdiff_t, 26> offset{};
-    for (std::size_t n = 0; n < 26; ++n) {
-        const NeighbourOffset& o = allNeighbours()[n];
-        offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
-    }
-    return offset;
-}
-
 /// Calls fn(r, n) for each neighbour r of voxel q inside the grid, n its `allNeighbours()` slot;
 /// `onFace` says q lies on a face of the block (else no bounds checks are needed).
 template <typename Fn>
@@ -235,10 +231,10 @@ constexpr std::uint8_t kLightNear = 1;  ///< the voxel may have a light step (0:
 constexpr std::uint8_t kSeed = 2;       ///< a seed: holds its value
 constexpr std::uint8_t kOnFace = 4;     ///< on a face of the block: some neighbours lie outside
 
-/// Sets kLightNear on every neighbour q of voxel c that has a light step into c.
-void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, std::size_t c,
-                   std::vector<std::uint8_t>& flags) {
-    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
+/// Sets kLightNear on every neighbour q of voxel c that has a light step into c (`offset`: from
+/// `neighbourOffsets`; kOnFace of c already set).
+void markLightNear(const Dims& d, const std::array<std::ptrdiff_t, 26>& offset, const Grid3<float>& slowness,
+                   double heavy, std::size_t c, std::vector<std::uint8_t>& flags) {
     forEachNeighbour(d, offset, c, (flags[c] & kOnFace) != 0, [&](std::size_t q, std::size_t n) {
         if (double(slowness[c]) * allNeighbours()[n].length < heavy) flags[q] |= kLightNear;
     });
@@ -248,15 +244,15 @@ void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, st
 void buildFlags(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double heavy,
                 std::vector<std::uint8_t>& flags) {
     flags.assign(d.count(), 0);
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
     for (int k = 0; k < d.nz; ++k)
         for (int j = 0; j < d.ny; ++j)
             for (int i = 0; i < d.nx; ++i) {
                 const std::size_t c = d.index(i, j, k);
                 if (i == 0 || j == 0 || k == 0 || i + 1 == d.nx || j + 1 == d.ny || k + 1 == d.nz) flags[c] |= kOnFace;
                 if (seed[c]) flags[c] |= kSeed;
+                if (double(slowness[c]) * std::sqrt(3.0) < heavy) markLightNear(d, offset, slowness, heavy, c, flags);
             }
-    for (std::size_t c = 0; c < d.count(); ++c)
-        if (double(slowness[c]) * std::sqrt(3.0) < heavy) markLightNear(d, slowness, heavy, c, flags);
 }
 
 /// Buckets per window: a heavy step from a value in a window's first bucket lands beyond the
@@ -670,8 +666,9 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
             }
         }
         if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>) {
+            const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(dims_);
             for (std::size_t c : changed)
-                if (c < value_.size()) markLightNear(dims_, slowness, heavy_, c, flags_);
+                if (c < value_.size()) markLightNear(dims_, offset, slowness, heavy_, c, flags_);
             changes += relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, &touched,
                                     &touchedList, limit);
         } else {
