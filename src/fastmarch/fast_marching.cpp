@@ -50,6 +50,12 @@ struct MinHeap {
     double bound() const { return c.front().first; }
 };
 
+/// The bucket of value v (the last one holds everything beyond).
+std::size_t bucketIndex(const EikonalField::Buckets& q, double v) {
+    const double b = v / q.width;
+    return b >= double(q.bucket.size() - 1) ? q.bucket.size() - 1 : std::size_t(b);
+}
+
 /// Entries in buckets of values [b·width, (b+1)·width): a bucket queue (Dial). With a width at
 /// most the smallest edge cost, nothing popped from a bucket can lower another entry of the same
 /// bucket, so a bucket may be drained in any order and each voxel settles once, as with a heap,
@@ -59,10 +65,7 @@ struct MinHeap {
 struct BucketQueue {
     EikonalField::Buckets& q;
     bool empty() const { return q.count == 0; }
-    std::size_t index(double v) const {
-        const double b = v / q.width;
-        return b >= double(q.bucket.size() - 1) ? q.bucket.size() - 1 : std::size_t(b);
-    }
+    std::size_t index(double v) const { return bucketIndex(q, v); }
     void push(const HeapEntry& e) {
         const std::size_t b = index(e.first);
         q.bucket[b].push_back(e);
@@ -76,14 +79,6 @@ struct BucketQueue {
             ++q.lowest;
         }
         return q.bucket[q.lowest].back();
-    }
-    void pop() {
-        q.bucket[q.lowest].pop_back();
-        --q.count;
-    }
-    double bound() {
-        top();
-        return double(q.lowest) * q.width;
     }
 };
 
@@ -131,9 +126,9 @@ std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
 /// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
 /// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel
 /// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
-template <typename Queue>
+/// (On the bucket queue the sweep is `relaxBatched`.)
 std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
-                  Stencil stencil, Grid3<double>& value, Queue& heap, std::vector<std::uint8_t>* touched,
+                  Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched,
                   std::vector<std::size_t>* touchedList = nullptr, double limit = kInf) {
     std::size_t changes = 0;
     const auto get = [&](std::size_t n) { return value[n]; };
@@ -769,11 +764,9 @@ void EikonalField::save(ByteWriter& out) const {
     // entries (stale ones lower nothing) from the buckets and the windows, each in the bucket of
     // its value, ordered by (value, voxel) within a bucket.
     std::vector<std::pair<std::size_t, HeapEntry>> entries;  // (bucket, entry)
-    Buckets& fine = const_cast<Buckets&>(buckets_);          // BucketQueue::index only reads
-    const BucketQueue queue{fine};
     const auto add = [&](const std::vector<HeapEntry>& list) {
         for (const HeapEntry& e : list)
-            if (e.first == value_[e.second]) entries.push_back({queue.index(e.first), e});
+            if (e.first == value_[e.second]) entries.push_back({bucketIndex(buckets_, e.first), e});
     };
     for (std::size_t b = std::min(buckets_.lowest, buckets_.bucket.size()); b < buckets_.bucket.size(); ++b)
         add(buckets_.bucket[b]);
