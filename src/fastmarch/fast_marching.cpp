@@ -940,9 +940,6 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         return {nullptr, nullptr};
     };
     const auto timeOf = [&](std::size_t n, std::int32_t l) {
-        const std::int32_t c = code[n];
-        if (c >= 0 && (c & kLabelMask) == l) return time[n];
-        if (c < 0 || !(c & kMore)) return kInf;
         const Ref r = find(n, l);
         return r.time ? *r.time : kInf;
     };
@@ -996,13 +993,13 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
     }
     for (const Seed& s : seeds)
         if (*find(s.voxel, s.label).time == s.value) heap.push_back({s.value, s.voxel, s.label});
-    std::sort(heap.begin(), heap.end(), std::greater<Entry>());  // a sorted descending vector is a heap
+    // Ascending, without duplicates: a vector sorted ascending is a heap for std::greater.
+    std::sort(heap.begin(), heap.end(), [](const Entry& a, const Entry& b) { return b > a; });
     heap.erase(std::unique(heap.begin(), heap.end(),
                            [](const Entry& a, const Entry& b) {
                                return a.time == b.time && a.voxel == b.voxel && a.label == b.label;
                            }),
                heap.end());
-    std::make_heap(heap.begin(), heap.end(), std::greater<Entry>());
     const std::size_t sx = 1, sy = std::size_t(dims.nx), sz = std::size_t(dims.nx) * std::size_t(dims.ny);
     const auto cost = [&](std::size_t n, std::int32_t l) {
         return (slowness ? (*slowness)[n] : 1.0f) * inverseSpeed[std::size_t(l)];
@@ -1050,9 +1047,9 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
             const Ref target = find(r, l);
             if (stop && !target.time) return;
             if (target.time && ((*target.code & (kSettled | kSeed)) || *target.time <= v)) return;
-            const double ax = std::min(i > 0 ? timeOf(r - sx, l) : kInf, i + 1 < dims.nx ? timeOf(r + sx, l) : kInf);
-            const double ay = std::min(j > 0 ? timeOf(r - sy, l) : kInf, j + 1 < dims.ny ? timeOf(r + sy, l) : kInf);
-            const double az = std::min(k > 0 ? timeOf(r - sz, l) : kInf, k + 1 < dims.nz ? timeOf(r + sz, l) : kInf);
+            double ax, ay, az;
+            axisMinima(
+                dims, {i, j, k}, [&](std::size_t n) { return timeOf(n, l); }, ax, ay, az);
             const double u = upwindUpdate(ax, ay, az, cost(r, l));
             if (target.time ? u < *target.time : u < kInf) {
                 put(r, l, u, 0);
