@@ -86,12 +86,10 @@ struct BucketQueue {
 /// by std::min, which is symmetric, so mirrored inputs give mirrored results.
 template <typename Get>
 void axisMinima(const Dims& d, const Index3& p, const Get& get, double& ax, double& ay, double& az) {
-    ax = std::min(p.i > 0 ? get(d.index(p.i - 1, p.j, p.k)) : kInf,
-                  p.i + 1 < d.nx ? get(d.index(p.i + 1, p.j, p.k)) : kInf);
-    ay = std::min(p.j > 0 ? get(d.index(p.i, p.j - 1, p.k)) : kInf,
-                  p.j + 1 < d.ny ? get(d.index(p.i, p.j + 1, p.k)) : kInf);
-    az = std::min(p.k > 0 ? get(d.index(p.i, p.j, p.k - 1)) : kInf,
-                  p.k + 1 < d.nz ? get(d.index(p.i, p.j, p.k + 1)) : kInf);
+    const std::size_t r = d.index(p), sy = std::size_t(d.nx), sz = std::size_t(d.nx) * std::size_t(d.ny);
+    ax = std::min(p.i > 0 ? get(r - 1) : kInf, p.i + 1 < d.nx ? get(r + 1) : kInf);
+    ay = std::min(p.j > 0 ? get(r - sy) : kInf, p.j + 1 < d.ny ? get(r + sy) : kInf);
+    az = std::min(p.k > 0 ? get(r - sz) : kInf, p.k + 1 < d.nz ? get(r + sz) : kInf);
 }
 
 /// The value of voxel r from all its neighbours' current values (the full update rule).
@@ -1047,9 +1045,9 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
             const Ref target = find(r, l);
             if (stop && !target.time) return;
             if (target.time && ((*target.code & (kSettled | kSeed)) || *target.time <= v)) return;
+            const auto own = [&](std::size_t n) { return timeOf(n, l); };  // label l's times
             double ax, ay, az;
-            axisMinima(
-                dims, {i, j, k}, [&](std::size_t n) { return timeOf(n, l); }, ax, ay, az);
+            axisMinima(dims, {i, j, k}, own, ax, ay, az);
             const double u = upwindUpdate(ax, ay, az, cost(r, l));
             if (target.time ? u < *target.time : u < kInf) {
                 put(r, l, u, 0);
