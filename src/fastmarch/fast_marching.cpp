@@ -124,11 +124,11 @@ std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
 /// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
 /// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel
 /// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
+/// A voxel it lowers is flagged in `touched` (when given) and, the first time, appended to `touchedList`.
 /// (On the bucket queue the sweep is `relaxBatched`.)
-std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
-                  Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched,
-                  std::vector<std::size_t>* touchedList = nullptr, double limit = kInf) {
-    std::size_t changes = 0;
+void relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
+           Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched,
+           std::vector<std::size_t>* touchedList = nullptr, double limit = kInf) {
     const auto get = [&](std::size_t n) { return value[n]; };
     const bool diagonal = stencil == Stencil::kAvalanche26;
     // Linear offsets of the 26 neighbours: a voxel off the block's faces needs no bounds checks.
@@ -140,7 +140,6 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
             if (touched && !(*touched)[r]) {
                 (*touched)[r] = 1;
                 if (touchedList) touchedList->push_back(r);
-                ++changes;
             }
         }
     };
@@ -180,7 +179,6 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
             for (const auto& o : faceNeighbours()) visit(o);
         }
     }
-    return changes;
 }
 
 /// Calls fn(r, n) for each neighbour r of voxel q inside the grid, n its `allNeighbours()` slot;
@@ -282,7 +280,7 @@ constexpr std::size_t kMinSpan = 8;
 constexpr std::size_t kParallelHeld = 4096;
 
 /// The avalanche sweep (kAvalanche26) on the bucket queue with its **heavy steps batched**: the
-/// same values and the same count of changed voxels as `relax`, bit for bit, on any number of
+/// same values and the same changed voxels (`touchedList`) as `relax`, bit for bit, on any number of
 /// threads. A step into voxel r costs slowness(r) · |step|; a step is *heavy* when that is at
 /// least `heavy` (the rock's rate) and *light* otherwise. A heavy step from value v lowers to at
 /// least v + heavy, beyond the *window* of `span` buckets that holds v; so the sweep goes a window
@@ -295,10 +293,10 @@ constexpr std::size_t kParallelHeld = 4096;
 /// the entries `relax` would pop. Where a value still lands in a window already swept (only when a
 /// step's rounding or a light step of a voxel whose flags changed puts it there) the sweep goes
 /// back to that window: it stays label-correcting, so the values are the same.
-std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap, double heavy,
-                         const std::vector<std::uint8_t>& flags, Grid3<double>& value, EikonalField::Buckets& fine,
-                         EikonalField::Windows& win, std::vector<std::uint8_t>* touched,
-                         std::vector<std::size_t>* touchedList, double limit) {
+void relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap, double heavy,
+                  const std::vector<std::uint8_t>& flags, Grid3<double>& value, EikonalField::Buckets& fine,
+                  EikonalField::Windows& win, std::vector<std::uint8_t>* touched, std::vector<std::size_t>* touchedList,
+                  double limit) {
     BucketQueue queue{fine};
     const std::size_t nb = fine.bucket.size();
     const std::size_t span = win.span;
@@ -320,7 +318,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
     const float* slow = slowness.data.data();
     const std::uint8_t* flag = flags.data();
     double* val = value.data.data();
-    std::size_t changes = 0;
 
     // Pushes from the calling thread: voxels with light steps into the buckets, others into their window.
     const auto push = [&](double u, std::size_t r) {
@@ -337,7 +334,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
         if (touched && !(*touched)[r]) {
             (*touched)[r] = 1;
             if (touchedList) touchedList->push_back(r);
-            ++changes;
         }
     };
     struct alignas(128) Slot {         // one cache line pair per worker: no false sharing
@@ -537,7 +533,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
                 if (e.first == val[e.second]) queue.push(e);
             win.count += sl.pushed;
             win.lowest = std::min(win.lowest, sl.lowest);
-            changes += sl.firstTouched.size();
             if (touchedList) touchedList->insert(touchedList->end(), sl.firstTouched.begin(), sl.firstTouched.end());
             sl.light.clear();
             sl.firstTouched.clear();
@@ -545,7 +540,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
             sl.lowest = std::numeric_limits<std::size_t>::max();
         }
     }
-    return changes;
 }
 
 }  // namespace
@@ -641,8 +635,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         touched.assign(dims_.count(), 0);
         adviseHugePages(touched.data(), touched.size());
     }
-    std::vector<std::size_t> touchedList;
-    std::size_t changes = 0;
+    std::vector<std::size_t> touchedList;  // the voxels this call changed, each once
     const auto get = [&](std::size_t n) { return value_[n]; };
     const auto run = [&](auto& queue) {
         for (std::size_t q : changed) {
@@ -654,7 +647,6 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 if (!touched[q]) {
                     touched[q] = 1;
                     touchedList.push_back(q);
-                    ++changes;
                 }
             }
         }
@@ -662,10 +654,10 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
             const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(dims_);
             for (std::size_t c : changed)
                 if (c < value_.size()) markLightNear(dims_, offset, slowness, heavy_, c, flags_);
-            changes += relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, &touched,
-                                    &touchedList, limit);
+            relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, &touched, &touchedList,
+                         limit);
         } else {
-            changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
+            relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
         }
         for (std::size_t q : touchedList) touched[q] = 0;
     };
@@ -703,7 +695,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 }
             windows_.compacted = windows_.count;
         }
-        return changes;
+        return touchedList.size();
     }
     MinHeap heap;
     heap.c.swap(pending_);
@@ -714,7 +706,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         pendingCompacted_ = heap.c.size();
     }
     pending_.swap(heap.c);
-    return changes;
+    return touchedList.size();
 }
 
 std::size_t EikonalField::settle(const Grid3<float>& slowness) {
