@@ -50,6 +50,12 @@ struct MinHeap {
     double bound() const { return c.front().first; }
 };
 
+/// The bucket of value v (the last one holds everything beyond).
+std::size_t bucketIndex(const EikonalField::Buckets& q, double v) {
+    const double b = v / q.width;
+    return b >= double(q.bucket.size() - 1) ? q.bucket.size() - 1 : std::size_t(b);
+}
+
 /// Entries in buckets of values [b·width, (b+1)·width): a bucket queue (Dial). With a width at
 /// most the smallest edge cost, nothing popped from a bucket can lower another entry of the same
 /// bucket, so a bucket may be drained in any order and each voxel settles once, as with a heap,
@@ -59,10 +65,7 @@ struct MinHeap {
 struct BucketQueue {
     EikonalField::Buckets& q;
     bool empty() const { return q.count == 0; }
-    std::size_t index(double v) const {
-        const double b = v / q.width;
-        return b >= double(q.bucket.size() - 1) ? q.bucket.size() - 1 : std::size_t(b);
-    }
+    std::size_t index(double v) const { return bucketIndex(q, v); }
     void push(const HeapEntry& e) {
         const std::size_t b = index(e.first);
         q.bucket[b].push_back(e);
@@ -77,26 +80,16 @@ struct BucketQueue {
         }
         return q.bucket[q.lowest].back();
     }
-    void pop() {
-        q.bucket[q.lowest].pop_back();
-        --q.count;
-    }
-    double bound() {
-        top();
-        return double(q.lowest) * q.width;
-    }
 };
 
 /// Smallest value of the two neighbours along one axis; −x and +x (or −y/+y, −z/+z) are combined
 /// by std::min, which is symmetric, so mirrored inputs give mirrored results.
 template <typename Get>
 void axisMinima(const Dims& d, const Index3& p, const Get& get, double& ax, double& ay, double& az) {
-    ax = std::min(p.i > 0 ? get(d.index(p.i - 1, p.j, p.k)) : kInf,
-                  p.i + 1 < d.nx ? get(d.index(p.i + 1, p.j, p.k)) : kInf);
-    ay = std::min(p.j > 0 ? get(d.index(p.i, p.j - 1, p.k)) : kInf,
-                  p.j + 1 < d.ny ? get(d.index(p.i, p.j + 1, p.k)) : kInf);
-    az = std::min(p.k > 0 ? get(d.index(p.i, p.j, p.k - 1)) : kInf,
-                  p.k + 1 < d.nz ? get(d.index(p.i, p.j, p.k + 1)) : kInf);
+    const std::size_t r = d.index(p), sy = std::size_t(d.nx), sz = std::size_t(d.nx) * std::size_t(d.ny);
+    ax = std::min(p.i > 0 ? get(r - 1) : kInf, p.i + 1 < d.nx ? get(r + 1) : kInf);
+    ay = std::min(p.j > 0 ? get(r - sy) : kInf, p.j + 1 < d.ny ? get(r + sy) : kInf);
+    az = std::min(p.k > 0 ? get(r - sz) : kInf, p.k + 1 < d.nz ? get(r + sz) : kInf);
 }
 
 /// The value of voxel r from all its neighbours' current values (the full update rule).
@@ -116,24 +109,30 @@ double fullUpdate(const Dims& d, const Index3& p, const Get& get, double f, Sten
     return std::min(cap, u);
 }
 
-/// Label-correcting sweep shared by `solve` and `decrease`: pops the smallest tentative value and
-/// re-evaluates its neighbours: the Godunov update of each face neighbour from the current values
-/// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
-/// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel
-/// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
-template <typename Queue>
-std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
-                  Stencil stencil, Grid3<double>& value, Queue& heap, std::vector<std::uint8_t>* touched,
-                  std::vector<std::size_t>* touchedList = nullptr, double limit = kInf) {
-    std::size_t changes = 0;
-    const auto get = [&](std::size_t n) { return value[n]; };
-    const bool diagonal = stencil == Stencil::kAvalanche26;
-    // Linear offsets of the 26 neighbours: a voxel off the block's faces needs no bounds checks.
+/// Linear offsets of the 26 neighbours in `allNeighbours()` order.
+std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
     std::array<std::ptrdiff_t, 26> offset{};
     for (std::size_t n = 0; n < 26; ++n) {
         const NeighbourOffset& o = allNeighbours()[n];
         offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
     }
+    return offset;
+}
+
+/// Label-correcting sweep shared by `solve` and `decrease`: pops the smallest tentative value and
+/// re-evaluates its neighbours: the Godunov update of each face neighbour from the current values
+/// of all its face neighbours (kFace6), or one step from the popped voxel to each of its 26
+/// neighbours (kAvalanche26: Dijkstra on the 26-neighbour graph). With heap order this is fast marching (each voxel
+/// settles once when values only fall); it also repairs a field whose slowness fell locally without touching the rest.
+/// A voxel it lowers is flagged in `touched` (when given) and, the first time, appended to `touchedList`.
+/// (On the bucket queue the sweep is `relaxBatched`.)
+void relax(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double cap,
+           Stencil stencil, Grid3<double>& value, MinHeap& heap, std::vector<std::uint8_t>* touched,
+           std::vector<std::size_t>* touchedList = nullptr, double limit = kInf) {
+    const auto get = [&](std::size_t n) { return value[n]; };
+    const bool diagonal = stencil == Stencil::kAvalanche26;
+    // Linear offsets of the 26 neighbours: a voxel off the block's faces needs no bounds checks.
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
     const auto lower = [&](std::size_t r, double u) {
         if (u < value[r]) {
             value[r] = u;
@@ -141,7 +140,6 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
             if (touched && !(*touched)[r]) {
                 (*touched)[r] = 1;
                 if (touchedList) touchedList->push_back(r);
-                ++changes;
             }
         }
     };
@@ -181,17 +179,6 @@ std::size_t relax(const Dims& d, const Grid3<float>& slowness, const std::vector
             for (const auto& o : faceNeighbours()) visit(o);
         }
     }
-    return changes;
-}
-
-/// Linear offsets of the 26 neighbours in `allNeighbours()` order.
-std::array<std::ptrdiff_t, 26> neighbourOffsets(const Dims& d) {
-    std::array<std::ptrdiff_t, 26> offset{};
-    for (std::size_t n = 0; n < 26; ++n) {
-        const NeighbourOffset& o = allNeighbours()[n];
-        offset[n] = o.di + std::ptrdiff_t(d.nx) * (o.dj + std::ptrdiff_t(d.ny) * o.dk);
-    }
-    return offset;
 }
 
 /// Calls fn(r, n) for each neighbour r of voxel q inside the grid, n its `allNeighbours()` slot;
@@ -235,10 +222,10 @@ constexpr std::uint8_t kLightNear = 1;  ///< the voxel may have a light step (0:
 constexpr std::uint8_t kSeed = 2;       ///< a seed: holds its value
 constexpr std::uint8_t kOnFace = 4;     ///< on a face of the block: some neighbours lie outside
 
-/// Sets kLightNear on every neighbour q of voxel c that has a light step into c.
-void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, std::size_t c,
-                   std::vector<std::uint8_t>& flags) {
-    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
+/// Sets kLightNear on every neighbour q of voxel c that has a light step into c (`offset`: from
+/// `neighbourOffsets`; kOnFace of c already set).
+void markLightNear(const Dims& d, const std::array<std::ptrdiff_t, 26>& offset, const Grid3<float>& slowness,
+                   double heavy, std::size_t c, std::vector<std::uint8_t>& flags) {
     forEachNeighbour(d, offset, c, (flags[c] & kOnFace) != 0, [&](std::size_t q, std::size_t n) {
         if (double(slowness[c]) * allNeighbours()[n].length < heavy) flags[q] |= kLightNear;
     });
@@ -248,15 +235,15 @@ void markLightNear(const Dims& d, const Grid3<float>& slowness, double heavy, st
 void buildFlags(const Dims& d, const Grid3<float>& slowness, const std::vector<std::uint8_t>& seed, double heavy,
                 std::vector<std::uint8_t>& flags) {
     flags.assign(d.count(), 0);
+    const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(d);
     for (int k = 0; k < d.nz; ++k)
         for (int j = 0; j < d.ny; ++j)
             for (int i = 0; i < d.nx; ++i) {
                 const std::size_t c = d.index(i, j, k);
                 if (i == 0 || j == 0 || k == 0 || i + 1 == d.nx || j + 1 == d.ny || k + 1 == d.nz) flags[c] |= kOnFace;
                 if (seed[c]) flags[c] |= kSeed;
+                if (double(slowness[c]) * std::sqrt(3.0) < heavy) markLightNear(d, offset, slowness, heavy, c, flags);
             }
-    for (std::size_t c = 0; c < d.count(); ++c)
-        if (double(slowness[c]) * std::sqrt(3.0) < heavy) markLightNear(d, slowness, heavy, c, flags);
 }
 
 /// Buckets per window: a heavy step from a value in a window's first bucket lands beyond the
@@ -293,7 +280,7 @@ constexpr std::size_t kMinSpan = 8;
 constexpr std::size_t kParallelHeld = 4096;
 
 /// The avalanche sweep (kAvalanche26) on the bucket queue with its **heavy steps batched**: the
-/// same values and the same count of changed voxels as `relax`, bit for bit, on any number of
+/// same values and the same changed voxels (`touchedList`) as `relax`, bit for bit, on any number of
 /// threads. A step into voxel r costs slowness(r) · |step|; a step is *heavy* when that is at
 /// least `heavy` (the rock's rate) and *light* otherwise. A heavy step from value v lowers to at
 /// least v + heavy, beyond the *window* of `span` buckets that holds v; so the sweep goes a window
@@ -306,10 +293,10 @@ constexpr std::size_t kParallelHeld = 4096;
 /// the entries `relax` would pop. Where a value still lands in a window already swept (only when a
 /// step's rounding or a light step of a voxel whose flags changed puts it there) the sweep goes
 /// back to that window: it stays label-correcting, so the values are the same.
-std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap, double heavy,
-                         const std::vector<std::uint8_t>& flags, Grid3<double>& value, EikonalField::Buckets& fine,
-                         EikonalField::Windows& win, std::vector<std::uint8_t>* touched,
-                         std::vector<std::size_t>* touchedList, double limit) {
+void relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap, double heavy,
+                  const std::vector<std::uint8_t>& flags, Grid3<double>& value, EikonalField::Buckets& fine,
+                  EikonalField::Windows& win, std::vector<std::uint8_t>* touched, std::vector<std::size_t>* touchedList,
+                  double limit) {
     BucketQueue queue{fine};
     const std::size_t nb = fine.bucket.size();
     const std::size_t span = win.span;
@@ -331,7 +318,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
     const float* slow = slowness.data.data();
     const std::uint8_t* flag = flags.data();
     double* val = value.data.data();
-    std::size_t changes = 0;
 
     // Pushes from the calling thread: voxels with light steps into the buckets, others into their window.
     const auto push = [&](double u, std::size_t r) {
@@ -348,7 +334,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
         if (touched && !(*touched)[r]) {
             (*touched)[r] = 1;
             if (touchedList) touchedList->push_back(r);
-            ++changes;
         }
     };
     struct alignas(128) Slot {         // one cache line pair per worker: no false sharing
@@ -548,7 +533,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
                 if (e.first == val[e.second]) queue.push(e);
             win.count += sl.pushed;
             win.lowest = std::min(win.lowest, sl.lowest);
-            changes += sl.firstTouched.size();
             if (touchedList) touchedList->insert(touchedList->end(), sl.firstTouched.begin(), sl.firstTouched.end());
             sl.light.clear();
             sl.firstTouched.clear();
@@ -556,7 +540,6 @@ std::size_t relaxBatched(const Dims& d, const Grid3<float>& slowness, double cap
             sl.lowest = std::numeric_limits<std::size_t>::max();
         }
     }
-    return changes;
 }
 
 }  // namespace
@@ -652,8 +635,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         touched.assign(dims_.count(), 0);
         adviseHugePages(touched.data(), touched.size());
     }
-    std::vector<std::size_t> touchedList;
-    std::size_t changes = 0;
+    std::vector<std::size_t> touchedList;  // the voxels this call changed, each once
     const auto get = [&](std::size_t n) { return value_[n]; };
     const auto run = [&](auto& queue) {
         for (std::size_t q : changed) {
@@ -665,17 +647,17 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 if (!touched[q]) {
                     touched[q] = 1;
                     touchedList.push_back(q);
-                    ++changes;
                 }
             }
         }
         if constexpr (std::is_same_v<std::decay_t<decltype(queue)>, BucketQueue>) {
+            const std::array<std::ptrdiff_t, 26> offset = neighbourOffsets(dims_);
             for (std::size_t c : changed)
-                if (c < value_.size()) markLightNear(dims_, slowness, heavy_, c, flags_);
-            changes += relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, &touched,
-                                    &touchedList, limit);
+                if (c < value_.size()) markLightNear(dims_, offset, slowness, heavy_, c, flags_);
+            relaxBatched(dims_, slowness, cap_, heavy_, flags_, value_, buckets_, windows_, &touched, &touchedList,
+                         limit);
         } else {
-            changes += relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
+            relax(dims_, slowness, seed_, cap_, stencil_, value_, queue, &touched, &touchedList, limit);
         }
         for (std::size_t q : touchedList) touched[q] = 0;
     };
@@ -713,7 +695,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
                 }
             windows_.compacted = windows_.count;
         }
-        return changes;
+        return touchedList.size();
     }
     MinHeap heap;
     heap.c.swap(pending_);
@@ -724,7 +706,7 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         pendingCompacted_ = heap.c.size();
     }
     pending_.swap(heap.c);
-    return changes;
+    return touchedList.size();
 }
 
 std::size_t EikonalField::settle(const Grid3<float>& slowness) {
@@ -772,11 +754,9 @@ void EikonalField::save(ByteWriter& out) const {
     // entries (stale ones lower nothing) from the buckets and the windows, each in the bucket of
     // its value, ordered by (value, voxel) within a bucket.
     std::vector<std::pair<std::size_t, HeapEntry>> entries;  // (bucket, entry)
-    Buckets& fine = const_cast<Buckets&>(buckets_);          // BucketQueue::index only reads
-    const BucketQueue queue{fine};
     const auto add = [&](const std::vector<HeapEntry>& list) {
         for (const HeapEntry& e : list)
-            if (e.first == value_[e.second]) entries.push_back({queue.index(e.first), e});
+            if (e.first == value_[e.second]) entries.push_back({bucketIndex(buckets_, e.first), e});
     };
     for (std::size_t b = std::min(buckets_.lowest, buckets_.bucket.size()); b < buckets_.bucket.size(); ++b)
         add(buckets_.bucket[b]);
@@ -950,9 +930,6 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         return {nullptr, nullptr};
     };
     const auto timeOf = [&](std::size_t n, std::int32_t l) {
-        const std::int32_t c = code[n];
-        if (c >= 0 && (c & kLabelMask) == l) return time[n];
-        if (c < 0 || !(c & kMore)) return kInf;
         const Ref r = find(n, l);
         return r.time ? *r.time : kInf;
     };
@@ -1006,13 +983,13 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
     }
     for (const Seed& s : seeds)
         if (*find(s.voxel, s.label).time == s.value) heap.push_back({s.value, s.voxel, s.label});
-    std::sort(heap.begin(), heap.end(), std::greater<Entry>());  // a sorted descending vector is a heap
+    // Ascending, without duplicates: a vector sorted ascending is a heap for std::greater.
+    std::sort(heap.begin(), heap.end(), [](const Entry& a, const Entry& b) { return b > a; });
     heap.erase(std::unique(heap.begin(), heap.end(),
                            [](const Entry& a, const Entry& b) {
                                return a.time == b.time && a.voxel == b.voxel && a.label == b.label;
                            }),
                heap.end());
-    std::make_heap(heap.begin(), heap.end(), std::greater<Entry>());
     const std::size_t sx = 1, sy = std::size_t(dims.nx), sz = std::size_t(dims.nx) * std::size_t(dims.ny);
     const auto cost = [&](std::size_t n, std::int32_t l) {
         return (slowness ? (*slowness)[n] : 1.0f) * inverseSpeed[std::size_t(l)];
@@ -1060,9 +1037,9 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
             const Ref target = find(r, l);
             if (stop && !target.time) return;
             if (target.time && ((*target.code & (kSettled | kSeed)) || *target.time <= v)) return;
-            const double ax = std::min(i > 0 ? timeOf(r - sx, l) : kInf, i + 1 < dims.nx ? timeOf(r + sx, l) : kInf);
-            const double ay = std::min(j > 0 ? timeOf(r - sy, l) : kInf, j + 1 < dims.ny ? timeOf(r + sy, l) : kInf);
-            const double az = std::min(k > 0 ? timeOf(r - sz, l) : kInf, k + 1 < dims.nz ? timeOf(r + sz, l) : kInf);
+            const auto own = [&](std::size_t n) { return timeOf(n, l); };  // label l's times
+            double ax, ay, az;
+            axisMinima(dims, {i, j, k}, own, ax, ay, az);
             const double u = upwindUpdate(ax, ay, az, cost(r, l));
             if (target.time ? u < *target.time : u < kInf) {
                 put(r, l, u, 0);
