@@ -531,9 +531,7 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
             }
             break;
         }
-        double dt = 0.5 * h / vmax;
-        if (o.timeStep > 0) dt = std::min(dt, o.timeStep);
-        dt = std::min(dt, o.years - t);
+        const double dt = std::min(speleothemStep(o, h, vmax), o.years - t);
         advect(field.impl->grid, a, dt);
         t += dt;
         ++res.steps;
