@@ -17,6 +17,12 @@ Eigen::Vector3d eig(const Vec3d& v) {
     return {v[0], v[1], v[2]};
 }
 
+/// The draw box's margin around the block on every side: max_length / 2, so that every disc that
+/// can reach the block has its centre in the box.
+double drawMargin(const FractureFamily& f) {
+    return 0.5 * std::max(0.0, f.maxLength);
+}
+
 /// rasteriseDisc, and with `inception` also sets the slab's voxels to 1 there, in the same walk.
 long rasteriseSlab(const FractureDisc& disc, double thickness, float porosity, Grid3<float>& porosityGrid,
                    Grid3<std::uint8_t>& flags, Grid3<std::uint8_t>* inception) {
@@ -111,7 +117,7 @@ double estimateKappa(const std::vector<Vec3d>& unitVectors) {
 }
 
 double fractureDrawVolume(const FractureFamily& f, const Dims& dims) {
-    const double grow = std::max(0.0, f.maxLength);  // max_length / 2 on each side
+    const double grow = 2 * drawMargin(f);
     return (double(dims.nx) + grow) * (double(dims.ny) + grow) * (double(dims.nz) + grow);
 }
 
@@ -132,7 +138,7 @@ FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& famil
         CAVESIM_CHECK(count >= 1 && count <= 1e6, "generateFractureNetwork: a family of an unchecked size");
         Rng rng(familySeed(seed, fi));
         const Vec3d mean = poleFromOrientation(f.dipDirection, f.dip);
-        const double grow = 0.5 * std::max(0.0, f.maxLength);
+        const double grow = drawMargin(f);
         FractureFamilyStats st;
         std::vector<Vec3d> poles;
         double lengthSum = 0, areaSum = 0;

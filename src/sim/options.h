@@ -11,6 +11,7 @@
 /// meaning and unit, the allowed ranges are in the registry only.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -181,6 +182,14 @@ struct SpeleothemOptions {
     double stalagmiteRadius = 0.15;  ///< stalagmite equilibrium radius, metres
     int frames = 4;                  ///< growth animation frames (0 = none)
 };
+
+/// The speleothem stage's growth step at largest normal speed `vmax` (m/yr, > 0) on a level set
+/// of voxel edge `h` (metres): the stable step 0.5·h / vmax — the fastest point moves at most half
+/// a voxel per speed update — capped by `options.timeStep` when it is set. Years.
+inline double speleothemStep(const SpeleothemOptions& options, double h, double vmax) {
+    const double dt = 0.5 * h / vmax;
+    return options.timeStep > 0 ? std::min(dt, options.timeStep) : dt;
+}
 
 /// What a run writes besides the grids.
 struct OutputOptions {

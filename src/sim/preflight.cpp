@@ -108,11 +108,9 @@ void estimateSpeleothems(const Scenario& s, double surfaceM2, RunEstimate& e) {
     e.speleoSurfaceM2 = surfaceM2;
     e.speleoVoxels = kSpeleoBandVoxels * surfaceM2 / (h * h);
     e.speleoBytes = kSpeleoBytes * e.speleoVoxels;
-    // Steps: the stable step moves the fastest tip half a voxel; `time_step` caps it.
-    const double vmax = o.alpha * o.lQ * std::exp(std::abs(o.dripVariability));  // α·l_Q at the fastest site
-    double dt = vmax > 0 ? 0.5 * h / vmax : o.years;
-    if (o.timeStep > 0) dt = std::min(dt, o.timeStep);
-    e.speleoSteps = o.drained && dt > 0 ? std::ceil(o.years / dt) : 0;
+    // Steps: `grow`'s step at the fastest drip site's α·l_Q (nothing moves without a speed).
+    const double vmax = o.alpha * o.lQ * std::exp(std::abs(o.dripVariability));
+    e.speleoSteps = o.drained && vmax > 0 ? std::ceil(o.years / speleothemStep(o, h, vmax)) : 0;
     e.speleoSeconds = e.speleoVoxels * (kSpeleoSetupNs + e.speleoSteps * kSpeleoStepNs) * 1e-9;
 }
 

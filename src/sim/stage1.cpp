@@ -202,8 +202,8 @@ fastmarch::LabelledArrival zoneMarch(const Domain& domain, ZoneSpeed speed) {
 }
 
 /// The neighbourhood of a zone's source (stage1.h): of the network voxels `voxels` (increasing),
-/// those whose arrival time is at most the `limit`-th smallest (all of them on ties), sources
-/// always. Increasing.
+/// those whose arrival time is at most the `limit`-th smallest (all of them on ties), so the
+/// zone's sources (time 0) always. Increasing.
 std::vector<std::size_t> neighbourhood(const std::vector<std::size_t>& voxels, const Grid3<double>& time,
                                        std::size_t limit) {
     if (voxels.size() <= limit || limit == 0) return voxels;
@@ -291,11 +291,8 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     std::vector<std::size_t> leftOut;
     for (std::size_t z = 0; z < nSources; ++z) {
         if (long(work[z].voxels.size()) <= networkCap) continue;
+        // The zone's own source voxels are seeds of its front (time 0): always within the cut.
         std::vector<std::size_t> kept = neighbourhood(work[z].voxels, march.time, std::size_t(networkCap));
-        for (std::size_t v : domain.sourceVoxels[z])  // sources stay (time 0, unless in another zone)
-            if (domain.zone[v] == std::int32_t(z) && !std::binary_search(kept.begin(), kept.end(), v) &&
-                std::binary_search(work[z].voxels.begin(), work[z].voxels.end(), v))
-                kept.insert(std::lower_bound(kept.begin(), kept.end(), v), v);
         std::vector<std::size_t> out;
         std::set_difference(work[z].voxels.begin(), work[z].voxels.end(), kept.begin(), kept.end(),
                             std::back_inserter(out));

@@ -406,8 +406,9 @@ namespace {
 
 /// The pressure rate of voxel v as its flags and porosity stand now (the rule `rateField`
 /// documents). Erosion only raises porosity and adds flags, so a voxel's rate only falls.
-float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g) {
+float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g, const std::vector<std::uint8_t>& vadose) {
     const std::uint8_t f = dom.flags[v];
+    if (!vadose.empty() && vadose[v] && !(f & kOpen)) return float(g.pRate);  // air-filled: no head
     // An inception horizon carries early flow: its rate is read from its porosity against the rock's
     // (the protochannel rule with the rock as the baseline), under either rule, until it is channel.
     const bool inception = !dom.inception.data.empty() && dom.inception[v];
@@ -424,8 +425,7 @@ float voxelRate(const Domain& dom, std::size_t v, const Stage2Options& g) {
 /// pressure decrease when that is lower.
 inline void lowerRate(const Domain& dom, const Stage2Options& g, const Stage2State& st, std::size_t v,
                       Grid3<float>& rate, std::vector<std::size_t>& newChannel) {
-    if (!st.vadose.empty() && st.vadose[v]) return;  // above the table: keeps p_rate
-    const float r = voxelRate(dom, v, g);
+    const float r = voxelRate(dom, v, g, st.vadose);
     if (r < rate[v]) {
         rate[v] = r;
         newChannel.push_back(v);
@@ -434,9 +434,9 @@ inline void lowerRate(const Domain& dom, const Stage2Options& g, const Stage2Sta
 
 }  // namespace
 
-Grid3<float> rateField(const Domain& dom, const Stage2Options& g) {
+Grid3<float> rateField(const Domain& dom, const Stage2Options& g, const std::vector<std::uint8_t>& vadose) {
     Grid3<float> rate(dom.dims, float(g.pRate));
-    for (std::size_t v = 0; v < rate.size(); ++v) rate[v] = voxelRate(dom, v, g);
+    for (std::size_t v = 0; v < rate.size(); ++v) rate[v] = voxelRate(dom, v, g, vadose);
     return rate;
 }
 
@@ -1089,11 +1089,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 for (int k = 0; k < d.nz; ++k)
                     for (int j = 0; j < d.ny; ++j)
                         for (int i = 0; i < d.nx; ++i)
-                            if (double(k) > table[std::size_t(i) + std::size_t(d.nx) * std::size_t(j)])
-                                st.vadose[d.index(i, j, k)] = 1;
-                rate = rateField(dom, g);
-                for (std::size_t v = 0; v < n; ++v)
-                    if (st.vadose[v] && !(dom.flags[v] & (kSource | kSink))) rate[v] = float(g.pRate);
+                            if (isVadose(d, table, i, j, k)) st.vadose[d.index(i, j, k)] = 1;
+                rate = rateField(dom, g, st.vadose);
                 pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap, fastmarch::Stencil::kAvalanche26);
                 res.pressureSeconds += tp.seconds();
                 std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);

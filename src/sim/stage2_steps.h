@@ -58,8 +58,8 @@ struct Stage2State {
     int tilesX = 0, tilesY = 0, tilesZ = 0;  ///< tiles along each axis
     std::vector<double> water;               ///< contents W of each voxel (dense)
     /// 1 where the voxel lies above the phase's water table (empty without a table): an air-filled
-    /// passage carries no head, so the pressure front crosses such a voxel at `p_rate` whatever its
-    /// porosity or flags (docs/model.md, "Water table and gravity").
+    /// passage carries no head, so the pressure front crosses such a voxel (not source or sink) at
+    /// `p_rate` whatever its porosity or flags (`rateField`; docs/model.md, "Water table and gravity").
     std::vector<std::uint8_t> vadose;
 
     std::vector<std::int32_t> tileSlot;      ///< per tile of the grid: its slot, −1 when inactive
@@ -253,7 +253,10 @@ void gravityPotential(const Grid3<double>& pressure, const std::vector<double>& 
 /// The pressure rate field of a domain: pRateChannel on channel, source and sink voxels; elsewhere
 /// `porosityRate` (RateRule::kPorosity), or pRateChannel on protochannels and pRate on the rest
 /// (RateRule::kChannelFlag). On an inception horizon (`Domain::inception`) a voxel that is not
-/// channel, source or sink takes at most porosityRate(R, rock porosity), under either rule.
-Grid3<float> rateField(const Domain& domain, const Stage2Options& options);
+/// channel, source or sink takes at most porosityRate(R, rock porosity), under either rule. Where
+/// `vadose` (Stage2State::vadose; empty = none) is 1, a voxel that is neither source nor sink takes
+/// pRate whatever its porosity or flags: an air-filled passage carries no head.
+Grid3<float> rateField(const Domain& domain, const Stage2Options& options,
+                       const std::vector<std::uint8_t>& vadose = {});
 
 }  // namespace cavesim::stage2

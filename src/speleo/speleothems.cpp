@@ -324,14 +324,14 @@ void advectStages(FloatGrid& grid, const MapT& map, const std::vector<Coord>& at
     stage(true);
 }
 
-/// Advects the level set by the analysis' normal speeds for `years` years. The moving voxels
+/// Advects the level set by the analysis' normal speeds (the largest `vmax`, `maxSpeed`) for
+/// `years` years. The moving voxels
 /// take OpenVDB's `LevelSetAdvection` step (HJWENO5, TVD-RK2, CFL sub-steps); the band is then
 /// dilated, renormalised (three TVD-RK1 iterations, `LevelSetTracker`) and trimmed only within
 /// `kTrackReach` voxels of a moving voxel: the still surface far from any growth keeps its
 /// distances as they are (a whole-band renormalisation would cost a pass over every voxel each
 /// step and slowly round the still relief).
-void advect(FloatGrid::Ptr& grid, const Analysis& a, double years) {
-    const double vmax = maxSpeed(a);
+void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years) {
     if (!(vmax > 0) || !(years > 0)) return;
     std::vector<Coord> at;
     std::vector<openvdb::Vec3f> vel;
@@ -347,8 +347,14 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double years) {
         }
     if (at.empty()) return;
     using MaskTree = FloatGrid::TreeType::ValueConverter<openvdb::ValueMask>::Type;
-    MaskTree moving;
-    for (const Coord& c : at) moving.setValueOn(c);
+    // The tracking region, from where the voxels move at first (fixed for the sub-steps): within
+    // kTrackReach − 1 voxels of them, and one voxel more.
+    MaskTree reach;
+    for (const Coord& c : at) reach.setValueOn(c);
+    openvdb::tools::dilateActiveValues(reach, kTrackReach - 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                       openvdb::tools::IGNORE_TILES);
+    MaskTree reachPlus(reach);
+    openvdb::tools::dilateActiveValues(reachPlus, 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
     const auto* map = grid->transform().constMap<openvdb::math::UniformScaleMap>().get();
     CAVESIM_CHECK(map != nullptr, "the decoration level set needs a uniform scale transform");
     const float h = float(grid->voxelSize()[0]);
@@ -366,12 +372,7 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double years) {
         time0 += dt;
 
         // Track the band near the moving voxels: dilate by one voxel (faces), renormalise, trim.
-        MaskTree grow(moving);
-        openvdb::tools::dilateActiveValues(grow, kTrackReach - 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
-                                           openvdb::tools::IGNORE_TILES);
-        MaskTree region(grow);
-        openvdb::tools::dilateActiveValues(region, 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
-                                           openvdb::tools::IGNORE_TILES);
+        MaskTree grow(reach), region(reachPlus);
         grow.topologyIntersection(grid->tree());
         openvdb::tools::dilateActiveValues(grow, 1, openvdb::tools::NN_FACE, openvdb::tools::IGNORE_TILES);
         grid->tree().topologyUnion(grow);
@@ -500,8 +501,9 @@ StepResult growStep(DecorationField& field, const SpeleothemOptions& options, do
     CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
     initVdb();
     Analysis a = analyse(*field.impl->grid, options);
-    advect(field.impl->grid, a, years);
-    return StepResult{std::move(a.stalactites), maxSpeed(a)};
+    const double vmax = maxSpeed(a);
+    advect(field.impl->grid, a, vmax, years);
+    return StepResult{std::move(a.stalactites), vmax};
 }
 
 GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std::vector<double>& frameYears,
@@ -531,10 +533,8 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
             }
             break;
         }
-        double dt = 0.5 * h / vmax;
-        if (o.timeStep > 0) dt = std::min(dt, o.timeStep);
-        dt = std::min(dt, o.years - t);
-        advect(field.impl->grid, a, dt);
+        const double dt = std::min(speleothemStep(o, h, vmax), o.years - t);
+        advect(field.impl->grid, a, vmax, dt);
         t += dt;
         ++res.steps;
         while (crossed < frameYears.size() && frameYears[crossed] <= t + 1e-9) ++crossed;
