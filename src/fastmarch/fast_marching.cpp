@@ -834,7 +834,8 @@ void EikonalField::restore(ByteReader& in, const Dims& dims) {
 }
 
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
-                              const std::vector<double>& labelSpeed) {
+                              const std::vector<double>& labelSpeed, const ProgressFn& progress,
+                              const std::string& progressPhase) {
     CAVESIM_CHECK(!slowness || slowness->dims == dims, "marchLabelled: slowness grid has other dims");
     for (double s : labelSpeed)
         CAVESIM_CHECK(s > 0 && std::isfinite(s), "marchLabelled: label speeds must be > 0, got " + std::to_string(s));
@@ -1021,6 +1022,9 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         if (p.k + 1 < dims.nz) widen(q + sz);
         return best + kDominanceSteps * double(step) <= v;
     };
+    constexpr std::size_t kProgressEvery = std::size_t(1) << 20;  // settled voxels between reports
+    const long total = long(dims.count());
+    std::size_t won = 0;  // voxels settled by their winning front
     while (!heap.empty()) {
         const Entry e = heap.front();
         std::pop_heap(heap.begin(), heap.end(), std::greater<Entry>());
@@ -1031,6 +1035,8 @@ LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, co
         const Ref self = find(q, l);
         if ((*self.code & kSettled) || v != *self.time) continue;  // settled already, or a stale entry
         *self.code |= kSettled;
+        if (self.code == &code[q] && ++won % kProgressEvery == 0)
+            reportProgress(progress, progressPhase, long(won), total);
         const Index3 p = dims.coord(q);
         const bool stop = self.code != &code[q] && dominated(q, p, l, v);
         const auto visit = [&](std::size_t r, int i, int j, int k) {

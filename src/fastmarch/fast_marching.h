@@ -23,6 +23,7 @@
 
 #include "core/bytes.h"
 #include "core/grid.h"
+#include "core/progress.h"
 
 namespace cavesim::fastmarch {
 
@@ -61,10 +62,15 @@ struct LabelledArrival {
 ///                    twice for one label keeps the smaller time; a seed's time stays its
 ///                    label's time there, and another label arriving earlier takes the voxel
 /// @param labelSpeed  speed factor of each label, > 0
+/// @param progress    called with `progressPhase`, the voxels settled so far (by their winning
+///                    front) and the grid's voxel count, every 2^20 settled voxels (empty = none); it
+///                    may throw `Cancelled` to stop the march
+/// @param progressPhase the phase name passed to `progress`
 /// @throw cavesim::InternalError on a seed outside the grid, a negative label, a label without
 ///        speed or a seed time that is negative or not finite
 LabelledArrival marchLabelled(const Dims& dims, const Grid3<float>* slowness, const std::vector<Seed>& seeds,
-                              const std::vector<double>& labelSpeed);
+                              const std::vector<double>& labelSpeed, const ProgressFn& progress = {},
+                              const std::string& progressPhase = "fast marching");
 
 /// How a voxel's value is computed from its neighbours.
 enum class Stencil {

@@ -165,8 +165,11 @@ struct ZoneWork {
 
 namespace {
 
+/// The progress phase of the zone march.
+const char* const kZonePhase = "stage 1: pressure zones";
+
 /// The zone march: arrival time of the winning front and its label per voxel.
-fastmarch::LabelledArrival zoneMarch(const Domain& domain, ZoneSpeed speed) {
+fastmarch::LabelledArrival zoneMarch(const Domain& domain, ZoneSpeed speed, const ProgressFn& progress = {}) {
     const Dims& d = domain.dims;
     std::vector<fastmarch::Seed> seeds;
     for (std::size_t s = 0; s < domain.sourceVoxels.size(); ++s)
@@ -198,7 +201,7 @@ fastmarch::LabelledArrival zoneMarch(const Domain& domain, ZoneSpeed speed) {
             slow = &slowness;
         }
     }
-    return fastmarch::marchLabelled(d, slow, seeds, domain.sourcePressure);
+    return fastmarch::marchLabelled(d, slow, seeds, domain.sourcePressure, progress, kZonePhase);
 }
 
 /// The neighbourhood of a zone's source (stage1.h): of the network voxels `voxels` (increasing),
@@ -247,11 +250,11 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     const flownet::GridFaces faces = gridFaces(g.boundaryFaces);
 
     // 1. Zones.
-    reportProgress(progress, "stage 1: pressure zones", 0, 1);
-    fastmarch::LabelledArrival march = zoneMarch(domain, g.permeability);
+    reportProgress(progress, kZonePhase, 0, long(d.count()));
+    fastmarch::LabelledArrival march = zoneMarch(domain, g.permeability, progress);
     domain.zone = std::move(march.label);
     result.zoneSeconds = t0.seconds();
-    reportProgress(progress, "stage 1: pressure zones", 1, 1);
+    reportProgress(progress, kZonePhase, long(d.count()), long(d.count()));
 
     // Sinks and the rock within `sinkGap` of them stay out of the networks: no protochannel comes
     // nearer to a sink than that, and stage 2 starts with every source cut off from the sinks.

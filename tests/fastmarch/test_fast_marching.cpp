@@ -387,6 +387,36 @@ TEST(Labelled, RowGivesExactTimes) {
     EXPECT_EQ(tie.label.at(6, 0, 0), 1);
 }
 
+TEST(Labelled, ReportsProgressAndStopsWhenCancelled) {
+    // 128 × 128 × 160 = 2 621 440 voxels, two fronts: a report every 2^20 settled voxels (two), each
+    // with the phase, the count so far and the grid's voxel count; the result is the same as
+    // without a callback.
+    const Dims d{128, 128, 160};
+    const std::vector<Seed> seeds{{d.index(0, 0, 0), 0, 0}, {d.index(127, 127, 159), 0, 1}};
+    std::vector<long> done;
+    const auto out = marchLabelled(
+        d, nullptr, seeds, {1.0, 1.5},
+        [&](const std::string& phase, long n, long total) {
+            EXPECT_EQ(phase, "zones");
+            EXPECT_EQ(total, long(d.count()));
+            done.push_back(n);
+        },
+        "zones");
+    EXPECT_EQ(done, (std::vector<long>{1L << 20, 2L << 20}));
+    const auto plain = marchLabelled(d, nullptr, seeds, {1.0, 1.5});
+    EXPECT_EQ(out.label.data, plain.label.data);
+    EXPECT_EQ(out.time.data, plain.time.data);
+    // A callback that throws Cancelled stops the march at the first report.
+    int calls = 0;
+    EXPECT_THROW(marchLabelled(d, nullptr, seeds, {1.0, 1.5},
+                               [&](const std::string&, long, long) {
+                                   ++calls;
+                                   throw Cancelled("test");
+                               }),
+                 Cancelled);
+    EXPECT_EQ(calls, 1);
+}
+
 TEST(Labelled, FrontsPassThroughEachOthersVoxels) {
     // 2×2: label 0 starts at (0,0) at time 0, label 1 at (1,0) at time 0.9, both speed 1.
     // Label 1 holds (1,0) (0.9 < 1), but label 0's own time there (1) is within the dominance
