@@ -96,7 +96,12 @@ int passageLevels(const nlohmann::json& crossSections) {
         const nlohmann::json &lo = reportValue(p, {"z_min_m"}), &hi = reportValue(p, {"z_max_m"}),
                              &h = reportValue(p, {"height_m"});
         if (!lo.is_number() || !hi.is_number()) continue;
-        const double half = h.is_number() ? h.get<double>() / 2 : 0.0;
+        // A level is made of sub-horizontal passages: one whose centreline climbs more than its own
+        // height (a ramp or a round shaft between two levels) joins levels, it does not form one.
+        if (h.is_number() && hi.get<double>() - lo.get<double>() > h.get<double>()) continue;
+        // A tube spans its height; a keyhole's height is mostly the canyon cut into it, so it counts at
+        // its centreline's elevations only.
+        const double half = h.is_number() && cls == "tube" ? h.get<double>() / 2 : 0.0;
         extents.push_back({lo.get<double>() - half, hi.get<double>() + half});
     }
     std::sort(extents.begin(), extents.end());
@@ -149,9 +154,10 @@ std::string geologySettingsMarkdown(const std::vector<GeologyRun>& runs, int thr
           "**Karstnet in range**: of the "
        << compared
        << " network metrics of Collon et al. 2017 (`graph_metrics`), those inside the range of the 34 real "
-          "caves. **Levels**: groups of tube and keyhole passages (`cross_sections`) whose vertical extents "
-          "(centreline elevation range ± half the passage height) overlap; canyons and shafts between levels do "
-          "not count. **Breakthrough**: stage-2 iteration, one per base-level phase. **Run time**: "
+          "caves. **Levels**: groups of sub-horizontal tube and keyhole passages (`cross_sections`; centreline "
+          "elevation range at most the passage height) whose vertical extents (that range, ± half the height "
+          "for a tube) overlap; canyons, shafts and ramps between levels do not count. **Breakthrough**: stage-2 "
+          "iteration, one per base-level phase. **Run time**: "
           "`timing_s.total`, wall time on this machine.\n";
     for (std::size_t i = 0; i < runs.size(); ++i) {
         const GeologyRun& run = runs[i];

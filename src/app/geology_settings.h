@@ -32,9 +32,12 @@ std::string geologyPictureName(const std::string& scenario);
 
 /// Levels of phreatic passages: the tube and keyhole passages of report.json `cross_sections`
 /// grouped by elevation, two passages in one level when their vertical extents overlap (directly
-/// or through other passages of the level). A passage's extent is its centreline's elevation range
-/// widened by half its height: [z_min_m − height_m/2, z_max_m + height_m/2] (metres, world z).
-/// Canyons and shafts (vadose passages between levels), "other" and "short" passages do not count.
+/// or through other passages of the level). A tube's extent is its centreline's elevation range
+/// widened by half its height: [z_min_m − height_m/2, z_max_m + height_m/2] (metres, world z); a
+/// keyhole's is its centreline's range alone (its height is mostly the canyon cut into the tube).
+/// Only sub-horizontal passages form levels: a tube or keyhole whose centreline climbs more than its
+/// own height (z_max_m − z_min_m > height_m: a ramp, or a round shaft, between two levels) does not
+/// count, nor do canyons and shafts (vadose passages between levels), "other" and "short" passages.
 /// @param crossSections report.json's `cross_sections` object (null or without `passages`: 0)
 /// @return the number of levels, 0 when there is no tube or keyhole passage
 int passageLevels(const nlohmann::json& crossSections);

@@ -33,8 +33,9 @@ TEST(GeologySettings, TheFourSettingsAndTheirPictures) {
 TEST(GeologySettings, LevelsGroupTubesAndKeyholesWhoseExtentsOverlap) {
     EXPECT_EQ(passageLevels(nlohmann::json()), 0);
     EXPECT_EQ(passageLevels(nlohmann::json{{"passages", nlohmann::json::array()}}), 0);
-    // Extents [z_min − h/2, z_max + h/2]: [25, 35], [28, 40] overlap; [66, 76] alone; [106, 118] and
-    // [115, 121] overlap. Canyons, "other" and "short" passages do not count, even between levels.
+    // Extents [z_min − h/2, z_max + h/2] of tubes, [z_min, z_max] of keyholes: [25, 35], [32, 36] overlap; [66, 76]
+    // alone; [106, 118] and [115, 121] overlap. Canyons, "other" and "short" passages do not count, even between
+    // levels.
     nlohmann::json cs = {
         {"passages",
          {passage("tube", 30, 30, 10.0), passage("keyhole", 32, 36, 8.0), passage("canyon", 30, 110, 90.0),
@@ -49,6 +50,18 @@ TEST(GeologySettings, LevelsGroupTubesAndKeyholesWhoseExtentsOverlap) {
                   {{"passages",
                     {passage("tube", 48, 48, 10.0), passage("tube", 30, 30, 10.0), passage("tube", 39, 39, 10.0)}}}),
               1);
+    // A tube climbing more than its height (a ramp or a round shaft from 34 to 70 m, 16 m high) joins
+    // the levels at 34 and 72 m but does not make them one; climbing exactly its height it counts.
+    EXPECT_EQ(passageLevels(
+                  {{"passages",
+                    {passage("tube", 34, 34, 16.0), passage("tube", 34, 70, 16.0), passage("tube", 72, 74, 16.0)}}}),
+              2);
+    EXPECT_EQ(passageLevels(
+                  {{"passages",
+                    {passage("tube", 34, 34, 16.0), passage("tube", 34, 50, 16.0), passage("tube", 62, 62, 16.0)}}}),
+              1);
+    // A keyhole 88 m high (mostly canyon) at 114–144 m does not reach down to the tubes at 70–74 m.
+    EXPECT_EQ(passageLevels({{"passages", {passage("tube", 70, 74, 16.0), passage("keyhole", 114, 144, 88.0)}}}), 2);
     // A passage without a height counts by its centreline range alone.
     EXPECT_EQ(passageLevels({{"passages", {passage("tube", 30, 30, nullptr), passage("tube", 31, 31, nullptr)}}}), 2);
 }
