@@ -76,11 +76,6 @@ RunOutcome execute(const RunRequest& request, const Scenario& s, const PipelineO
                    const Checkpoint* resume, const std::string& resumeName) {
     const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
     checkMemory(estimateRun(s, threads), readMemoryLimits());  // before any work, the output folder included
-    if (request.checkpointEvery > 0 &&
-        (!s.stage2.phases.empty() || s.stage2.hydrology.waterTable >= 0 || s.stage2.hydrology.fromSite))
-        throw InputError(s.path +
-                         ": --checkpoint-every: checkpoints are not available yet for runs with a water "
-                         "table ([hydrology]) or [[phase]] entries; run without --checkpoint-every");
     const fs::path out = request.outDir.empty() ? fs::path("out") / s.name : fs::path(request.outDir);
     OutputDir dir(out, request.force);  // refuses a non-empty directory before any work
 
