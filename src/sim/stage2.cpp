@@ -1184,7 +1184,6 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 prec.injected += rec.injected;
                 prec.drained += rec.drained;
                 prec.eroded += rec.eroded;
-                if (rec.sourcesConnected > 0 && !prec.breakthroughIteration) prec.breakthroughIteration = it;
             }
             const std::vector<bool> conn = extendReach(dom, st, conducting);
             for (std::size_t si = 0; si < conn.size(); ++si) {
@@ -1194,6 +1193,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 }
             }
             if (rec.sourcesConnected > 0 && !res.breakthroughIteration) res.breakthroughIteration = it;
+            if (phased && rec.sourcesConnected > 0 && !prec.breakthroughIteration) prec.breakthroughIteration = it;
             res.history.push_back(rec);
             res.iterations = it;
             c.iteration = it;
