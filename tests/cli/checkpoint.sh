@@ -144,6 +144,7 @@ enabled = false
 p_rate = 0.05
 p_rate_channel = 0.001
 source_porosity = 0.5
+iterations = 150              # replaced by the phases' 200: resume checks against those
 snapshots = [30, 60, 90, 130]
 [hydrology]
 water_table = 13
