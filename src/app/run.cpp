@@ -77,11 +77,6 @@ RunOutcome execute(const RunRequest& request, const Scenario& s, const PipelineO
                    const Checkpoint* resume, const std::string& resumeName) {
     const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
     checkMemory(estimateRun(s, threads), readMemoryLimits());  // before any work, the output folder included
-    if (request.checkpointEvery > 0 &&
-        (!s.stage2.phases.empty() || s.stage2.hydrology.waterTable >= 0 || s.stage2.hydrology.fromSite))
-        throw InputError(s.path +
-                         ": --checkpoint-every: checkpoints are not available yet for runs with a water "
-                         "table ([hydrology]) or [[phase]] entries; run without --checkpoint-every");
     const fs::path out = request.outDir.empty() ? fs::path("out") / s.name : fs::path(request.outDir);
     OutputDir dir(out, request.force);  // refuses a non-empty directory before any work
 
@@ -157,7 +152,12 @@ RunOutcome resumeRun(const ResumeRequest& r, const PipelineOptions& callbacks) {
         throw InputError(shown +
                          ": the scenario it holds no longer reads as the run read it (another version of cavesim?); "
                          "rerun `cavesim run`");
-    if (!s.stage2.enabled || c.iteration >= s.stage2.iterations)
+    int iterations = s.stage2.iterations;  // of stage 2: the phases' when there are phases
+    if (!s.stage2.phases.empty()) {
+        iterations = 0;
+        for (const Stage2Phase& ph : s.stage2.phases) iterations += ph.iterations;
+    }
+    if (!s.stage2.enabled || c.iteration >= iterations)
         throw InputError(shown + ": a checkpoint after iteration " + std::to_string(c.iteration) +
                          ", which its scenario's stage 2 does not reach");
     if (callbacks.log)
