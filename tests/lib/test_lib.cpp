@@ -351,7 +351,7 @@ TEST(Lib, CancelledRunResumesFromItsCheckpointBitForBit) {
     expectSameResult(whole, resumed(file, 91), "stopped again after 100, checkpoint after 90");
 }
 
-TEST(Lib, CommandsCheckpointResumesInTheLibrary) {
+TEST(Lib, CheckpointsPassBetweenTheCommandAndTheLibrary) {
     const fs::path dir = scratch("checkpoint_command");
     const api::Scenario s = api::Scenario::fromTomlFile(kSmall);
     const api::Result whole = api::run(s);
@@ -363,6 +363,25 @@ TEST(Lib, CommandsCheckpointResumesInTheLibrary) {
     const fs::path file = dir / ".out.checkpoint" / "checkpoint.cavesim";
     ASSERT_TRUE(fs::is_regular_file(file));
     expectSameResult(whole, resumed(file, 61, 2), "the command's checkpoint after 60");
+
+    // The other way: the library's checkpoint, where `cavesim resume DIR` looks for it, finishes the
+    // command's folder with the state file of a run that never stopped.
+    const fs::path ours = dir / ".lib.checkpoint" / "checkpoint.cavesim";
+    fs::create_directories(ours.parent_path());
+    runStopped(s, ours, 20, 50, false);
+    ASSERT_EQ(command("resume '" + (dir / "lib").string() + "' --quiet --threads 2", dir), 0);
+    whole.writeState((dir / "state.vdb").string());
+    EXPECT_EQ(readFile(dir / "lib" / "state.vdb"), readFile(dir / "state.vdb"));
+    EXPECT_FALSE(fs::exists(ours));  // spent once the folder is in place
+    // Unless the run took pictures before the checkpoint: the library draws none.
+    api::Scenario pictured = s;
+    pictured.set("stage2.snapshots", {10});
+    const fs::path drawn = dir / ".pic.checkpoint" / "checkpoint.cavesim";
+    fs::create_directories(drawn.parent_path());
+    runStopped(pictured, drawn, 20, 30, false);
+    std::string err;
+    EXPECT_EQ(command("resume '" + (dir / "pic").string() + "' --quiet", dir, &err), 2);
+    EXPECT_NE(err.find("0 of the 1 stage-2 pictures"), std::string::npos) << err;
 }
 
 TEST(Lib, PhasedRunResumesFromItsCheckpointBitForBit) {
