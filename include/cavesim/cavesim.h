@@ -164,8 +164,9 @@ private:
 /// `run`.
 using ProgressFn = std::function<void(const std::string& phase, long done, long total)>;
 
-/// Cancels a run from any thread: copies share one flag; `run` checks it at every progress step
-/// (every stage-2 iteration) and throws `cavesim::Cancelled`.
+/// Cancels a run from any thread: copies share one flag; `run` (and `resume`) checks it at every
+/// progress step (every stage-2 iteration) and throws `cavesim::Cancelled`; a checkpoint written
+/// before stays complete.
 class CancelToken {
 public:
     CancelToken() : flag_(std::make_shared<std::atomic<bool>>(false)) {}
