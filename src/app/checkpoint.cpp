@@ -9,6 +9,7 @@
 #include "core/bytes.h"
 #include "core/check.h"
 #include "core/fnv.h"
+#include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
 
@@ -68,6 +69,13 @@ fs::path checkpointDir(const fs::path& target) {
     std::string name = t.filename().string();
     if (name.size() > 200) name = name.substr(0, 200);
     return t.parent_path() / ("." + name + ".checkpoint");
+}
+
+std::uint64_t scenarioHash(const Scenario& s) {
+    const std::string text = scenarioToToml(s);
+    Fnv1a64 h;
+    h.add(text.data(), text.size());
+    return h.value();
 }
 
 std::uint64_t domainFingerprint(const Domain& d) {

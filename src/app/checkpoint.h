@@ -32,6 +32,7 @@
 #include "render/image.h"
 #include "sim/domain.h"
 #include "sim/options.h"
+#include "sim/scenario.h"
 
 namespace cavesim::app {
 
@@ -67,6 +68,10 @@ std::string encodeCheckpoint(const Checkpoint& checkpoint);
 /// @throw InputError naming `shown` and what is wrong for any content that is not a complete
 ///        checkpoint this program wrote (never crashes or reads out of bounds, whatever the bytes)
 Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& shown);
+
+/// FNV-1a of the effective scenario (scenarioToToml of `scenario`, its [site] loaded): a resumed run
+/// must read the same scenario.
+std::uint64_t scenarioHash(const Scenario& scenario);
 
 /// FNV-1a of the domain grids stage 1 and the interim step settle (porosity, porosity0, flags,
 /// zone): a resumed run's stage 1 must give the same.
