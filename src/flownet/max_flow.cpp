@@ -4,9 +4,10 @@
 #include "flownet/max_flow.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <functional>
 #include <iterator>
 #include <limits>
-#include <queue>
 #include <utility>
 
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
@@ -126,6 +127,166 @@ private:
     std::vector<long> distance_;
 };
 
+/// True when no arc is a self-loop, no two arcs of a node share a head (an arc pair is then the
+/// only link between its two nodes) and every arc between voxel nodes has its reverse's
+/// resistance (so either arc of a pair can tell the other's phase capacity): what
+/// `PhaseSolver` needs to drop pairs.
+bool canDropPairs(const FlowNetwork& net) {
+    constexpr NodeId kNone = std::numeric_limits<NodeId>::max();
+    std::vector<NodeId> seenFrom(net.nodeCount(), kNone);
+    for (NodeId u = 0; u < net.nodeCount(); ++u)
+        for (ArcId a = net.arcBegin[u]; a < net.arcBegin[u + 1]; ++a) {
+            const NodeId v = net.arcTarget[a];
+            if (v == u || seenFrom[v] == u || net.resistance[a] != net.resistance[net.arcReverse[a]]) return false;
+            seenFrom[v] = u;
+        }
+    return true;
+}
+
+/// Boykov–Kolmogorov for one primal–dual phase, run on the part of the network that can matter:
+/// the arc pairs with positive phase capacity in either direction, every arc pair of the two
+/// terminals, and the nodes they touch. Nodes and arcs keep their relative order (a node's
+/// arcs stay in network order), so the solver makes exactly the moves it makes on the whole
+/// network, where a pair with zero capacity both ways is inert: Boost's
+/// `boykov_kolmogorov_max_flow` only follows, grows along, adopts through or activates across an
+/// arc whose residual is positive, and such a pair's residuals stay 0 (flow is only pushed
+/// along parent arcs, which had positive residual when chosen). The one place it looks at arcs
+/// regardless of residual — when an orphan finds no parent, its neighbours whose parent arc
+/// comes from it become orphans — finds the same neighbours in the same order, because in a
+/// simple network (no parallel arcs, no self-loops) that parent arc is the pair itself. The
+/// terminal pairs are all kept because the first step (`augment_direct_paths`) walks the
+/// source's and the sink's arcs and looks up each source neighbour's arc to the sink whatever
+/// their residuals. Where `canDropPairs` fails every pair and node is kept.
+///
+/// Per phase the caller walks the network's nodes and arcs in order, calling `keep` for each
+/// kept arc (with its phase capacity) and `endNode` after each node's arcs, then `run`.
+class PhaseSolver {
+public:
+    explicit PhaseSolver(const FlowNetwork& net)
+        : net_(net), keepAll_(!canDropPairs(net)), nodeMap_(net.nodeCount()), compactOf_(net.arcCount()) {}
+
+    /// Whether every pair is kept (the caller then keeps every arc).
+    bool keepsAll() const { return keepAll_; }
+
+    /// Starts a phase.
+    void begin() {
+        orig_.clear();
+        cap_.clear();
+    }
+
+    /// Keeps arc `a` (the next kept arc in network order) with phase capacity `cap`.
+    void keep(ArcId a, double cap) {
+        compactOf_[a] = ArcId(orig_.size());
+        orig_.push_back(a);
+        cap_.push_back(cap);
+    }
+
+    /// Ends node `u`'s arcs; `kept` tells whether any of them was kept.
+    void endNode(NodeId u, bool kept) { nodeMap_[u] = kept || keepAll_ || u >= net_.voxelNodes; }
+
+    /// Max flow with the kept arcs' capacities, added to `flow` kept exactly antisymmetric:
+    /// `flow[a] += cap[a] − residual[a]` on the lower arc a of each kept pair,
+    /// `flow[reverse] = −flow[a]`. Returns the value.
+    double run(std::vector<double>& flow) {
+        constexpr NodeId kNone = std::numeric_limits<NodeId>::max();
+        const FlowNetwork& net = net_;
+        const ArcId* rev = net.arcReverse.data();
+        NodeId kept = 0;
+        for (NodeId& m : nodeMap_) m = m ? kept++ : kNone;
+        const std::size_t keptArcs = orig_.size();
+        crev_.resize(keptArcs);
+        res_.resize(keptArcs);
+        for (std::size_t k = 0; k < keptArcs; ++k) crev_[k] = compactOf_[rev[orig_[k]]];
+
+        Graph g(boost::edges_are_sorted, CompactPairIterator(*this, 0), CompactPairIterator(*this, orig_.size()), kept);
+        predecessor_.resize(kept);
+        color_.resize(kept);
+        distance_.assign(kept, 0);
+        const auto edgeIndex = get(boost::edge_index, g);
+        const auto vertexIndex = get(boost::vertex_index, g);
+        const auto capMap = boost::make_iterator_property_map(cap_.cbegin(), edgeIndex);
+        const auto resMap = boost::make_iterator_property_map(res_.begin(), edgeIndex);
+        const auto revMap = boost::make_function_property_map<Edge, Edge>(CompactReverse{&g, &crev_});
+        const auto predMap = boost::make_iterator_property_map(predecessor_.begin(), vertexIndex);
+        const auto colorMap = boost::make_iterator_property_map(color_.begin(), vertexIndex);
+        const auto distMap = boost::make_iterator_property_map(distance_.begin(), vertexIndex);
+        const double value = boost::boykov_kolmogorov_max_flow(g, capMap, resMap, revMap, predMap, colorMap, distMap,
+                                                               vertexIndex, nodeMap_[net.source], nodeMap_[net.sink]);
+        for (std::size_t k = 0; k < keptArcs; ++k) {
+            const ArcId a = orig_[k];
+            const ArcId b = rev[a];
+            if (a < b) {
+                flow[a] += cap_[k] - res_[k];
+                flow[b] = -flow[a];
+            }
+        }
+        peakBytes_ = std::max(peakBytes_, bytesOf(nodeMap_) + bytesOf(compactOf_) + bytesOf(orig_) + bytesOf(crev_) +
+                                              bytesOf(cap_) + bytesOf(res_) + bytesOf(predecessor_) + bytesOf(color_) +
+                                              bytesOf(distance_) + (kept + 1 + orig_.size()) * sizeof(NodeId) +
+                                              kept * (sizeof(long) + 1));
+        return value;
+    }
+
+    /// Peak heap bytes over the phases run: node and arc maps, the compacted topology, vertex
+    /// maps and Boykov–Kolmogorov's per-vertex arrays (time stamp, two flags).
+    std::size_t bytes() const { return peakBytes_; }
+
+private:
+    /// The kept arcs as (tail, head) pairs in compacted numbering, for Boost's CSR constructor.
+    class CompactPairIterator {
+    public:
+        using iterator_category = std::input_iterator_tag;
+        using value_type = std::pair<NodeId, NodeId>;
+        using difference_type = std::ptrdiff_t;
+        using pointer = const value_type*;
+        using reference = const value_type&;
+
+        CompactPairIterator(const PhaseSolver& s, std::size_t k) : s_(&s), k_(k) { settle(); }
+        reference operator*() const { return pair_; }
+        pointer operator->() const { return &pair_; }
+        CompactPairIterator& operator++() {
+            ++k_;
+            settle();
+            return *this;
+        }
+        bool operator==(const CompactPairIterator& o) const { return k_ == o.k_; }
+        bool operator!=(const CompactPairIterator& o) const { return k_ != o.k_; }
+
+    private:
+        void settle() {
+            if (k_ >= s_->orig_.size()) return;
+            const FlowNetwork& net = s_->net_;
+            const ArcId a = s_->orig_[k_];
+            while (net.arcBegin[tail_ + 1] <= a) ++tail_;
+            pair_ = {s_->nodeMap_[tail_], s_->nodeMap_[net.arcTarget[a]]};
+        }
+        const PhaseSolver* s_;
+        std::size_t k_;
+        NodeId tail_ = 0;
+        value_type pair_{0, 0};
+    };
+
+    /// The reverse of a compacted arc as a Boost edge descriptor.
+    struct CompactReverse {
+        const Graph* g;
+        const std::vector<ArcId>* crev;
+        Edge operator()(const Edge& e) const { return Edge(boost::target(e, *g), (*crev)[e.idx]); }
+    };
+
+    const FlowNetwork& net_;
+    bool keepAll_;
+    std::vector<NodeId> nodeMap_;   ///< compacted id of each network node (max = dropped)
+    std::vector<ArcId> compactOf_;  ///< compacted id of each kept network arc (stale for the others)
+    std::vector<ArcId> orig_;       ///< network arc of each compacted arc, increasing
+    std::vector<ArcId> crev_;       ///< compacted reverse of each compacted arc
+    std::vector<double> cap_;       ///< capacity of each compacted arc
+    std::vector<double> res_;       ///< residual capacity of each compacted arc
+    std::vector<Edge> predecessor_;
+    std::vector<boost::default_color_type> color_;
+    std::vector<long> distance_;
+    std::size_t peakBytes_ = 0;
+};
+
 }  // namespace
 
 MaxFlowResult maxFlow(const FlowNetwork& net, MaxFlowAlgorithm algorithm) {
@@ -170,51 +331,67 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
 
     // Resistance of arc a: the network's, except on the arcs between the protosinks and the
     // super-sink (the sink's own arcs, [sinkBegin, end), and their reverses), whose costs are set
-    // below in `sinkCost`, indexed by the sink's arc.
+    // below in `sinkCost`, indexed by the sink's arc. The loops below read the network through
+    // plain pointers (the vectors do not change size).
     const ArcId sinkBegin = net.arcBegin[net.sink];
     std::vector<double> sinkCost(arcs - sinkBegin, 0.0);
-    const auto resistanceOf = [&](ArcId a) {
-        if (a >= sinkBegin) return sinkCost[a - sinkBegin];
-        if (net.arcTarget[a] == net.sink) return sinkCost[net.arcReverse[a] - sinkBegin];
-        return net.resistance[a];
-    };
-    // Arc cost w and residual r of pushing along arc a given the current net flow: first cancel
-    // flow running the other way (refunding its resistance), then add flow (paying it).
-    const auto residualOf = [&](ArcId a, double& w) {
-        const double f = flow[a];
-        if (f < 0) {
-            w = -resistanceOf(a);
-            return -f;
+    const ArcId* const arcBegin = net.arcBegin.data();
+    const NodeId* const arcTarget = net.arcTarget.data();
+    const ArcId* const arcReverse = net.arcReverse.data();
+    const double* const capacity = net.capacity.data();
+    const double* const resistance = net.resistance.data();
+    const double* const sinkCostOf = sinkCost.data();
+    const NodeId sink = net.sink;
+    double* const f = flow.data();
+    // Arc cost w and residual r of pushing along arc a (tail ≠ sink, head v) given the current
+    // net flow: first cancel flow running the other way (refunding its resistance), then add
+    // flow (paying it).
+    const auto residualOf = [&](ArcId a, NodeId v, double& w) {
+        const double res = v == sink ? sinkCostOf[arcReverse[a] - sinkBegin] : resistance[a];
+        const double fa = f[a];
+        if (fa < 0) {
+            w = -res;
+            return -fa;
         }
-        w = resistanceOf(a);
-        return net.capacity[a] - f;
+        w = res;
+        return capacity[a] - fa;
     };
 
-    // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off).
+    // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off). The
+    // heap holds (distance, node) pairs, all distinct, so nodes leave it in one order whatever
+    // the heap's layout; its storage is reused by every phase.
     std::vector<double> pi(nodes, 0.0), dist(nodes);
     std::vector<std::uint8_t> settled(nodes);
     using Entry = std::pair<double, NodeId>;
+    std::vector<Entry> heap;
     const auto dijkstra = [&](bool throughSink) {
         std::fill(dist.begin(), dist.end(), kInf);
         std::fill(settled.begin(), settled.end(), 0);
-        std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
-        dist[net.source] = 0;
-        heap.push({0.0, net.source});
+        double* const d = dist.data();
+        std::uint8_t* const done = settled.data();
+        const double* const p = pi.data();
+        const std::greater<Entry> later;
+        heap.clear();
+        d[net.source] = 0;
+        heap.push_back({0.0, net.source});
         while (!heap.empty()) {
-            const auto [d, u] = heap.top();
-            heap.pop();
-            if (settled[u]) continue;
-            settled[u] = 1;
-            if (u == net.sink) break;  // early exit: the rest is at least this far
-            for (ArcId a = net.arcBegin[u]; a < net.arcBegin[u + 1]; ++a) {
-                const NodeId v = net.arcTarget[a];
-                if (settled[v] || (!throughSink && v == net.sink)) continue;
+            std::pop_heap(heap.begin(), heap.end(), later);
+            const auto [du, u] = heap.back();
+            heap.pop_back();
+            if (done[u]) continue;
+            done[u] = 1;
+            if (u == sink) break;  // early exit: the rest is at least this far
+            const double pu = p[u];
+            for (ArcId a = arcBegin[u], end = arcBegin[u + 1]; a < end; ++a) {
+                const NodeId v = arcTarget[a];
+                if (done[v] || (!throughSink && v == sink)) continue;
                 double w;
-                if (residualOf(a, w) <= flowEps) continue;
-                const double nd = d + std::max(0.0, w + pi[u] - pi[v]);
-                if (nd < dist[v]) {
-                    dist[v] = nd;
-                    heap.push({nd, v});
+                if (residualOf(a, v, w) <= flowEps) continue;
+                const double nd = du + std::max(0.0, w + pu - p[v]);
+                if (nd < d[v]) {
+                    d[v] = nd;
+                    heap.push_back({nd, v});
+                    std::push_heap(heap.begin(), heap.end(), later);
                 }
             }
         }
@@ -239,8 +416,13 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     pi[net.sink] = toSink;
     const double tol = std::max(options.tolerance, 1e-9) * std::max(longest, 1e-300);
 
-    BoostSolver solver(net);
-    std::vector<double> phaseCap(arcs), phaseRes(arcs);
+    // Every pair's net flow as the phases leave it on pairs they do not touch: the lower arc's
+    // +0 and its reverse's −0 (the phase solver updates only the pairs it keeps).
+    for (ArcId a = 0; a < arcs; ++a)
+        if (a < net.arcReverse[a]) flow[net.arcReverse[a]] = -flow[a];
+    PhaseSolver solver(net);
+    const bool keepAll = solver.keepsAll();
+    const NodeId voxels = NodeId(net.voxelNodes);
     for (int phase = 1;; ++phase) {
         if (phase > 1) {
             dijkstra(true);
@@ -250,27 +432,48 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         }
         out.phases = phase;
         const bool last = phase >= options.maxPhases;
-        for (std::size_t u = 0; u < nodes; ++u)
-            for (ArcId a = net.arcBegin[u]; a < net.arcBegin[u + 1]; ++a) {
+        const double* const p = pi.data();
+        // Phase capacity of every arc: its residual where it is tight (on a least-resistance
+        // path), 0 elsewhere. An arc is handed to the solver when it or its reverse has
+        // capacity; the reverse's is worked out here from this arc (its flow is −f, its
+        // resistance the same) with the same arithmetic as at its own turn.
+        solver.begin();
+        for (NodeId u = 0; u < nodes; ++u) {
+            const double pu = p[u];
+            bool any = false;
+            for (ArcId a = arcBegin[u], end = arcBegin[u + 1]; a < end; ++a) {
+                const NodeId v = arcTarget[a];
+                const double fa = f[a];
                 double w;
-                const double r = residualOf(a, w);
-                const bool tight = w + pi[u] - pi[net.arcTarget[a]] <= tol;
+                double r;
+                if (a >= sinkBegin) {  // the sink's own arcs
+                    w = fa < 0 ? -sinkCostOf[a - sinkBegin] : sinkCostOf[a - sinkBegin];
+                    r = fa < 0 ? -fa : capacity[a] - fa;
+                } else {
+                    r = residualOf(a, v, w);
+                }
+                const bool tight = w + pu - p[v] <= tol;
                 // The last phase takes every residual arc: plain max flow on what is left.
-                phaseCap[a] = r > flowEps && (tight || last) ? (last ? net.capacity[a] - flow[a] : r) : 0.0;
+                const double c = r > flowEps && (tight || last) ? (last ? capacity[a] - fa : r) : 0.0;
+                bool keep = c > 0 || u >= voxels || v >= voxels || keepAll;
+                if (!keep) {  // both ends are voxels: the reverse carries −fa at the same resistance
+                    const double fb = -fa;
+                    const double wb = fb < 0 ? -resistance[a] : resistance[a];
+                    if (last || wb + p[v] - pu <= tol) keep = (fb < 0 ? -fb : capacity[arcReverse[a]] - fb) > flowEps;
+                }
+                if (keep) {
+                    solver.keep(a, c);
+                    any = true;
+                }
             }
-        const double pushed = solver.run(phaseCap, phaseRes, MaxFlowAlgorithm::BoykovKolmogorov);
-        for (ArcId a = 0; a < arcs; ++a) {
-            const ArcId b = net.arcReverse[a];
-            if (a < b) {
-                flow[a] += phaseCap[a] - phaseRes[a];
-                flow[b] = -flow[a];
-            }
+            solver.endNode(u, any);
         }
+        const double pushed = solver.run(flow);
         out.value += pushed;
         if (last) break;
     }
-    out.solverBytes = solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(settled) +
-                      bytesOf(phaseCap) + bytesOf(phaseRes);
+    out.solverBytes =
+        solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(settled) + bytesOf(heap);
     out.cost = flowCost(net, flow);
     return out;
 }
