@@ -197,6 +197,9 @@ public:
         crev_.resize(keptArcs);
         res_.resize(keptArcs);
         for (std::size_t k = 0; k < keptArcs; ++k) crev_[k] = compactOf_[rev[orig_[k]]];
+        for (std::size_t k = 0; k < keptArcs; ++k)
+            CAVESIM_CHECK(crev_[k] < keptArcs && orig_[crev_[k]] == rev[orig_[k]],
+                          "leastResistanceMaxFlow: a phase kept an arc without its reverse");
 
         Graph g(boost::edges_are_sorted, CompactPairIterator(*this, 0), CompactPairIterator(*this, orig_.size()), kept);
         predecessor_.resize(kept);
@@ -357,41 +360,91 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         return capacity[a] - fa;
     };
 
-    // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off). The
-    // heap holds (distance, node) pairs, all distinct, so nodes leave it in one order whatever
-    // the heap's layout; its storage is reused by every phase.
+    // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off).
+    // The heap (4-ary, storage reused by every phase) holds (distance, node) entries that are all
+    // distinct — an entry is pushed only when it lowers the node's distance — so nodes leave it
+    // in one order whatever the heap's layout: by distance, ties by node id. A popped entry
+    // that is no longer its node's distance is stale (the node left earlier); a node that has
+    // left is never lowered again (its distance is at most the popped one, and arcs add ≥ 0),
+    // so it needs no mark of its own. The sink is reached iff it is settled (`dist` finite).
     std::vector<double> pi(nodes, 0.0), dist(nodes);
-    std::vector<std::uint8_t> settled(nodes);
     using Entry = std::pair<double, NodeId>;
     std::vector<Entry> heap;
     const auto dijkstra = [&](bool throughSink) {
         std::fill(dist.begin(), dist.end(), kInf);
-        std::fill(settled.begin(), settled.end(), 0);
         double* const d = dist.data();
-        std::uint8_t* const done = settled.data();
         const double* const p = pi.data();
-        const std::greater<Entry> later;
+        const double* const fl = f;
+        const double* const cap = capacity;
+        const double* const res = resistance;
+        const double* const sc = sinkCostOf;
+        const ArcId* const first = arcBegin;
+        const NodeId* const head = arcTarget;
+        const ArcId* const rev = arcReverse;
+        const NodeId to = sink;
+        const ArcId scBegin = sinkBegin;
+        const double eps = flowEps;
         heap.clear();
         d[net.source] = 0;
         heap.push_back({0.0, net.source});
         while (!heap.empty()) {
-            std::pop_heap(heap.begin(), heap.end(), later);
-            const auto [du, u] = heap.back();
+            const auto [du, u] = heap.front();
+            // Pop: sift the last entry down from the root (children of i: 4i + 1 … 4i + 4).
+            const Entry last = heap.back();
             heap.pop_back();
-            if (done[u]) continue;
-            done[u] = 1;
-            if (u == sink) break;  // early exit: the rest is at least this far
+            if (!heap.empty()) {
+                Entry* const h = heap.data();
+                const std::size_t n = heap.size();
+                std::size_t i = 0;
+                for (;;) {
+                    const std::size_t c0 = 4 * i + 1;
+                    if (c0 >= n) break;
+                    std::size_t m = c0;
+                    const std::size_t cEnd = std::min(c0 + 4, n);
+                    for (std::size_t c = c0 + 1; c < cEnd; ++c)
+                        if (h[c] < h[m]) m = c;
+                    if (!(h[m] < last)) break;
+                    h[i] = h[m];
+                    i = m;
+                }
+                h[i] = last;
+            }
+            if (du != d[u]) continue;  // stale
+            if (u == to) break;        // early exit: the rest is at least this far
             const double pu = p[u];
-            for (ArcId a = arcBegin[u], end = arcBegin[u + 1]; a < end; ++a) {
-                const NodeId v = arcTarget[a];
-                if (done[v] || (!throughSink && v == sink)) continue;
+            for (ArcId a = first[u], end = first[u + 1]; a < end; ++a) {
+                const NodeId v = head[a];
                 double w;
-                if (residualOf(a, v, w) <= flowEps) continue;
+                if (v == to) {
+                    if (!throughSink) continue;
+                    w = sc[rev[a] - scBegin];
+                } else {
+                    w = res[a];
+                }
+                const double fa = fl[a];
+                double r;
+                if (fa < 0) {
+                    w = -w;
+                    r = -fa;
+                } else {
+                    r = cap[a] - fa;
+                }
+                if (r <= eps) continue;
                 const double nd = du + std::max(0.0, w + pu - p[v]);
                 if (nd < d[v]) {
                     d[v] = nd;
-                    heap.push_back({nd, v});
-                    std::push_heap(heap.begin(), heap.end(), later);
+                    // Push: sift up (parent of i: (i − 1) / 4).
+                    const Entry e{nd, v};
+                    heap.push_back(e);
+                    Entry* const h = heap.data();
+                    std::size_t i = heap.size() - 1;
+                    while (i > 0) {
+                        const std::size_t parent = (i - 1) / 4;
+                        if (!(e < h[parent])) break;
+                        h[i] = h[parent];
+                        i = parent;
+                    }
+                    h[i] = e;
                 }
             }
         }
@@ -426,7 +479,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     for (int phase = 1;; ++phase) {
         if (phase > 1) {
             dijkstra(true);
-            if (!settled[net.sink]) break;  // no augmenting path: the flow is maximum
+            if (dist[net.sink] == kInf) break;  // no augmenting path: the flow is maximum
             const double dT = dist[net.sink];
             for (std::size_t v = 0; v < nodes; ++v) pi[v] += std::min(dist[v], dT);
         }
@@ -438,33 +491,45 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         // capacity; the reverse's is worked out here from this arc (its flow is −f, its
         // resistance the same) with the same arithmetic as at its own turn.
         solver.begin();
+        const double* const res = resistance;
+        const double* const fl = f;
+        const double* const cp = capacity;
         for (NodeId u = 0; u < nodes; ++u) {
             const double pu = p[u];
             bool any = false;
             for (ArcId a = arcBegin[u], end = arcBegin[u + 1]; a < end; ++a) {
                 const NodeId v = arcTarget[a];
-                const double fa = f[a];
-                double w;
-                double r;
-                if (a >= sinkBegin) {  // the sink's own arcs
-                    w = fa < 0 ? -sinkCostOf[a - sinkBegin] : sinkCostOf[a - sinkBegin];
-                    r = fa < 0 ? -fa : capacity[a] - fa;
+                const double fa = fl[a];
+                double c;
+                if (u >= voxels || v >= voxels || keepAll) {  // terminal pairs are always kept
+                    double w;
+                    double r;
+                    if (a >= sinkBegin) {  // the sink's own arcs
+                        w = fa < 0 ? -sinkCostOf[a - sinkBegin] : sinkCostOf[a - sinkBegin];
+                        r = fa < 0 ? -fa : cp[a] - fa;
+                    } else {
+                        r = residualOf(a, v, w);
+                    }
+                    const bool tight = w + pu - p[v] <= tol;
+                    // The last phase takes every residual arc: plain max flow on what is left.
+                    c = r > flowEps && (tight || last) ? (last ? cp[a] - fa : r) : 0.0;
                 } else {
-                    r = residualOf(a, v, w);
+                    // Between voxels: this arc costs w, its reverse (flow −fa, same resistance) wb.
+                    const double pv = p[v];
+                    const double w = fa < 0 ? -res[a] : res[a];
+                    const double wb = fa > 0 ? -res[a] : res[a];
+                    const bool tight = w + pu - pv <= tol;
+                    const bool tightB = wb + pv - pu <= tol;
+                    if (!(tight || tightB || last)) continue;  // neither arc can carry phase flow
+                    const double r = fa < 0 ? -fa : cp[a] - fa;
+                    c = r > flowEps && (tight || last) ? (last ? cp[a] - fa : r) : 0.0;
+                    if (!(c > 0)) {  // kept anyway when the reverse has phase capacity
+                        const double fb = -fa;
+                        if (!((tightB || last) && (fb < 0 ? -fb : cp[arcReverse[a]] - fb) > flowEps)) continue;
+                    }
                 }
-                const bool tight = w + pu - p[v] <= tol;
-                // The last phase takes every residual arc: plain max flow on what is left.
-                const double c = r > flowEps && (tight || last) ? (last ? capacity[a] - fa : r) : 0.0;
-                bool keep = c > 0 || u >= voxels || v >= voxels || keepAll;
-                if (!keep) {  // both ends are voxels: the reverse carries −fa at the same resistance
-                    const double fb = -fa;
-                    const double wb = fb < 0 ? -resistance[a] : resistance[a];
-                    if (last || wb + p[v] - pu <= tol) keep = (fb < 0 ? -fb : capacity[arcReverse[a]] - fb) > flowEps;
-                }
-                if (keep) {
-                    solver.keep(a, c);
-                    any = true;
-                }
+                solver.keep(a, c);
+                any = true;
             }
             solver.endNode(u, any);
         }
@@ -472,8 +537,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         out.value += pushed;
         if (last) break;
     }
-    out.solverBytes =
-        solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(settled) + bytesOf(heap);
+    out.solverBytes = solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap);
     out.cost = flowCost(net, flow);
     return out;
 }
