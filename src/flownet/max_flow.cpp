@@ -475,6 +475,10 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         if (a < net.arcReverse[a]) flow[net.arcReverse[a]] = -flow[a];
     PhaseSolver solver(net);
     const bool keepAll = solver.keepsAll();
+    // 1 where an arc has its reverse's capacity (most voxel arcs): the reverse's capacity is
+    // then read from the arc itself rather than gathered.
+    std::vector<std::uint8_t> capSymmetric(arcs);
+    for (ArcId a = 0; a < arcs; ++a) capSymmetric[a] = capacity[a] == capacity[arcReverse[a]];
     const NodeId voxels = NodeId(net.voxelNodes);
     for (int phase = 1;; ++phase) {
         if (phase > 1) {
@@ -525,7 +529,9 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
                     c = r > flowEps && (tight || last) ? (last ? cp[a] - fa : r) : 0.0;
                     if (!(c > 0)) {  // kept anyway when the reverse has phase capacity
                         const double fb = -fa;
-                        if (!((tightB || last) && (fb < 0 ? -fb : cp[arcReverse[a]] - fb) > flowEps)) continue;
+                        if (!(tightB || last)) continue;
+                        const double capB = capSymmetric[a] ? cp[a] : cp[arcReverse[a]];
+                        if (!((fb < 0 ? -fb : capB - fb) > flowEps)) continue;
                     }
                 }
                 solver.keep(a, c);
@@ -537,7 +543,8 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         out.value += pushed;
         if (last) break;
     }
-    out.solverBytes = solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap);
+    out.solverBytes =
+        solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap) + bytesOf(capSymmetric);
     out.cost = flowCost(net, flow);
     return out;
 }
