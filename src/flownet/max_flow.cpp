@@ -215,7 +215,11 @@ public:
         const auto distMap = boost::make_iterator_property_map(distance_.begin(), vertexIndex);
         const double value = boost::boykov_kolmogorov_max_flow(g, capMap, resMap, revMap, predMap, colorMap, distMap,
                                                                vertexIndex, nodeMap_[net.source], nodeMap_[net.sink]);
+        // Pairs the phase left alone are skipped: adding +0 would not change the lower arc's
+        // flow (never −0: it starts at +0 and each phase adds a capacity minus a residual,
+        // never −0), and the reverse already holds its negative.
         for (std::size_t k = 0; k < keptArcs; ++k) {
+            if (cap_[k] == res_[k]) continue;
             const ArcId a = orig_[k];
             const ArcId b = rev[a];
             if (a < b) {
@@ -233,6 +237,17 @@ public:
     /// Peak heap bytes over the phases run: node and arc maps, the compacted topology, vertex
     /// maps and Boykov–Kolmogorov's per-vertex arrays (time stamp, two flags).
     std::size_t bytes() const { return peakBytes_; }
+
+    /// Frees the buffers (`bytes` keeps the peak); no phase may run afterwards.
+    void release() {
+        for (auto* v : {&nodeMap_, &orig_, &crev_}) std::vector<NodeId>().swap(*v);
+        std::vector<ArcId>().swap(compactOf_);
+        std::vector<double>().swap(cap_);
+        std::vector<double>().swap(res_);
+        std::vector<Edge>().swap(predecessor_);
+        std::vector<boost::default_color_type>().swap(color_);
+        std::vector<long>().swap(distance_);
+    }
 
 private:
     /// The kept arcs as (tail, head) pairs in compacted numbering, for Boost's CSR constructor.
@@ -478,6 +493,8 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     // 1 where an arc has its reverse's capacity (most voxel arcs): the reverse's capacity is
     // then read from the arc itself rather than gathered.
     std::vector<std::uint8_t> capSymmetric(arcs);
+    std::size_t compactBytes = 0;  // peak of the compacted phases
+    std::size_t lastBytes = 0;     // the last phase's, when it is the plain max flow
     for (ArcId a = 0; a < arcs; ++a) capSymmetric[a] = capacity[a] == capacity[arcReverse[a]];
     const NodeId voxels = NodeId(net.voxelNodes);
     for (int phase = 1;; ++phase) {
@@ -488,7 +505,29 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
             for (std::size_t v = 0; v < nodes; ++v) pi[v] += std::min(dist[v], dT);
         }
         out.phases = phase;
-        const bool last = phase >= options.maxPhases;
+        if (phase >= options.maxPhases) {
+            // The last phase takes every residual arc (plain max flow on what is left), nearly
+            // every pair: it runs on the whole network, the phase solver's buffers freed first.
+            compactBytes = solver.bytes() + bytesOf(capSymmetric);
+            solver.release();
+            std::vector<std::uint8_t>().swap(capSymmetric);
+            std::vector<double> phaseCap(arcs), phaseRes(arcs);
+            for (ArcId a = 0; a < arcs; ++a) {
+                const double r = f[a] < 0 ? -f[a] : capacity[a] - f[a];
+                phaseCap[a] = r > flowEps ? capacity[a] - f[a] : 0.0;
+            }
+            BoostSolver whole(net);
+            out.value += whole.run(phaseCap, phaseRes, MaxFlowAlgorithm::BoykovKolmogorov);
+            for (ArcId a = 0; a < arcs; ++a) {
+                const ArcId b = arcReverse[a];
+                if (a < b) {
+                    f[a] += phaseCap[a] - phaseRes[a];
+                    f[b] = -f[a];
+                }
+            }
+            lastBytes = whole.bytes() + bytesOf(phaseCap) + bytesOf(phaseRes);
+            break;
+        }
         const double* const p = pi.data();
         // Phase capacity of every arc: its residual where it is tight (on a least-resistance
         // path), 0 elsewhere. An arc is handed to the solver when it or its reverse has
@@ -514,9 +553,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
                     } else {
                         r = residualOf(a, v, w);
                     }
-                    const bool tight = w + pu - p[v] <= tol;
-                    // The last phase takes every residual arc: plain max flow on what is left.
-                    c = r > flowEps && (tight || last) ? (last ? cp[a] - fa : r) : 0.0;
+                    c = r > flowEps && w + pu - p[v] <= tol ? r : 0.0;
                 } else {
                     // Between voxels: this arc costs w, its reverse (flow −fa, same resistance) wb.
                     const double pv = p[v];
@@ -524,12 +561,12 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
                     const double wb = fa > 0 ? -res[a] : res[a];
                     const bool tight = w + pu - pv <= tol;
                     const bool tightB = wb + pv - pu <= tol;
-                    if (!(tight || tightB || last)) continue;  // neither arc can carry phase flow
+                    if (!(tight || tightB)) continue;  // neither arc can carry phase flow
                     const double r = fa < 0 ? -fa : cp[a] - fa;
-                    c = r > flowEps && (tight || last) ? (last ? cp[a] - fa : r) : 0.0;
+                    c = r > flowEps && tight ? r : 0.0;
                     if (!(c > 0)) {  // kept anyway when the reverse has phase capacity
                         const double fb = -fa;
-                        if (!(tightB || last)) continue;
+                        if (!tightB) continue;
                         const double capB = capSymmetric[a] ? cp[a] : cp[arcReverse[a]];
                         if (!((fb < 0 ? -fb : capB - fb) > flowEps)) continue;
                     }
@@ -539,12 +576,11 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
             }
             solver.endNode(u, any);
         }
-        const double pushed = solver.run(flow);
-        out.value += pushed;
-        if (last) break;
+        out.value += solver.run(flow);
     }
+    if (compactBytes == 0) compactBytes = solver.bytes() + bytesOf(capSymmetric);
     out.solverBytes =
-        solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap) + bytesOf(capSymmetric);
+        std::max(compactBytes, lastBytes) + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap);
     out.cost = flowCost(net, flow);
     return out;
 }
