@@ -4,9 +4,10 @@
 #include "flownet/max_flow.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <functional>
 #include <iterator>
 #include <limits>
-#include <queue>
 #include <utility>
 
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
@@ -126,6 +127,184 @@ private:
     std::vector<long> distance_;
 };
 
+/// True when no arc is a self-loop, no two arcs of a node share a head (an arc pair is then the
+/// only link between its two nodes) and every arc between voxel nodes has its reverse's
+/// resistance (so either arc of a pair can tell the other's phase capacity): what
+/// `PhaseSolver` needs to drop pairs.
+bool canDropPairs(const FlowNetwork& net) {
+    constexpr NodeId kNone = std::numeric_limits<NodeId>::max();
+    std::vector<NodeId> seenFrom(net.nodeCount(), kNone);
+    for (NodeId u = 0; u < net.nodeCount(); ++u)
+        for (ArcId a = net.arcBegin[u]; a < net.arcBegin[u + 1]; ++a) {
+            const NodeId v = net.arcTarget[a];
+            if (v == u || seenFrom[v] == u || net.resistance[a] != net.resistance[net.arcReverse[a]]) return false;
+            seenFrom[v] = u;
+        }
+    return true;
+}
+
+/// Boykov–Kolmogorov for one primal–dual phase, run on the part of the network that can matter:
+/// the arc pairs with positive phase capacity in either direction, every arc pair of the two
+/// terminals, and the nodes they touch. Nodes and arcs keep their relative order (a node's
+/// arcs stay in network order), so the solver makes exactly the moves it makes on the whole
+/// network, where a pair with zero capacity both ways is inert: Boost's
+/// `boykov_kolmogorov_max_flow` only follows, grows along, adopts through or activates across an
+/// arc whose residual is positive, and such a pair's residuals stay 0 (flow is only pushed
+/// along parent arcs, which had positive residual when chosen). The one place it looks at arcs
+/// regardless of residual — when an orphan finds no parent, its neighbours whose parent arc
+/// comes from it become orphans — finds the same neighbours in the same order, because in a
+/// simple network (no parallel arcs, no self-loops) that parent arc is the pair itself. The
+/// terminal pairs are all kept because the first step (`augment_direct_paths`) walks the
+/// source's and the sink's arcs and looks up each source neighbour's arc to the sink whatever
+/// their residuals. Where `canDropPairs` fails every pair and node is kept.
+///
+/// Per phase the caller walks the network's nodes and arcs in order, calling `keep` for each
+/// kept arc (with its phase capacity) and `endNode` after each node's arcs, then `run`.
+class PhaseSolver {
+public:
+    explicit PhaseSolver(const FlowNetwork& net)
+        : net_(net), keepAll_(!canDropPairs(net)), nodeMap_(net.nodeCount()), compactOf_(net.arcCount()) {}
+
+    /// Whether every pair is kept (the caller then keeps every arc).
+    bool keepsAll() const { return keepAll_; }
+
+    /// Starts a phase.
+    void begin() {
+        orig_.clear();
+        cap_.clear();
+    }
+
+    /// Keeps arc `a` (the next kept arc in network order) with phase capacity `cap`.
+    void keep(ArcId a, double cap) {
+        compactOf_[a] = ArcId(orig_.size());
+        orig_.push_back(a);
+        cap_.push_back(cap);
+    }
+
+    /// Ends node `u`'s arcs; `kept` tells whether any of them was kept.
+    void endNode(NodeId u, bool kept) { nodeMap_[u] = kept || keepAll_ || u >= net_.voxelNodes; }
+
+    /// Max flow with the kept arcs' capacities, added to `flow` kept exactly antisymmetric:
+    /// `flow[a] += cap[a] − residual[a]` on the lower arc a of each kept pair,
+    /// `flow[reverse] = −flow[a]`. Returns the value.
+    double run(std::vector<double>& flow) {
+        constexpr NodeId kNone = std::numeric_limits<NodeId>::max();
+        const FlowNetwork& net = net_;
+        const ArcId* rev = net.arcReverse.data();
+        NodeId kept = 0;
+        for (NodeId& m : nodeMap_) m = m ? kept++ : kNone;
+        const std::size_t keptArcs = orig_.size();
+        crev_.resize(keptArcs);
+        res_.resize(keptArcs);
+        for (std::size_t k = 0; k < keptArcs; ++k) crev_[k] = compactOf_[rev[orig_[k]]];
+        for (std::size_t k = 0; k < keptArcs; ++k)
+            CAVESIM_CHECK(crev_[k] < keptArcs && orig_[crev_[k]] == rev[orig_[k]],
+                          "leastResistanceMaxFlow: a phase kept an arc without its reverse");
+
+        Graph g(boost::edges_are_sorted, CompactPairIterator(*this, 0), CompactPairIterator(*this, orig_.size()), kept);
+        predecessor_.resize(kept);
+        color_.resize(kept);
+        distance_.assign(kept, 0);
+        const auto edgeIndex = get(boost::edge_index, g);
+        const auto vertexIndex = get(boost::vertex_index, g);
+        const auto capMap = boost::make_iterator_property_map(cap_.cbegin(), edgeIndex);
+        const auto resMap = boost::make_iterator_property_map(res_.begin(), edgeIndex);
+        const auto revMap = boost::make_function_property_map<Edge, Edge>(CompactReverse{&g, &crev_});
+        const auto predMap = boost::make_iterator_property_map(predecessor_.begin(), vertexIndex);
+        const auto colorMap = boost::make_iterator_property_map(color_.begin(), vertexIndex);
+        const auto distMap = boost::make_iterator_property_map(distance_.begin(), vertexIndex);
+        const double value = boost::boykov_kolmogorov_max_flow(g, capMap, resMap, revMap, predMap, colorMap, distMap,
+                                                               vertexIndex, nodeMap_[net.source], nodeMap_[net.sink]);
+        // Pairs the phase left alone are skipped: adding +0 would not change the lower arc's
+        // flow (never −0: it starts at +0 and each phase adds a capacity minus a residual,
+        // never −0), and the reverse already holds its negative.
+        for (std::size_t k = 0; k < keptArcs; ++k) {
+            if (cap_[k] == res_[k]) continue;
+            const ArcId a = orig_[k];
+            const ArcId b = rev[a];
+            if (a < b) {
+                flow[a] += cap_[k] - res_[k];
+                flow[b] = -flow[a];
+            }
+        }
+        peakBytes_ = std::max(peakBytes_, bytesOf(nodeMap_) + bytesOf(compactOf_) + bytesOf(orig_) + bytesOf(crev_) +
+                                              bytesOf(cap_) + bytesOf(res_) + bytesOf(predecessor_) + bytesOf(color_) +
+                                              bytesOf(distance_) + (kept + 1 + orig_.size()) * sizeof(NodeId) +
+                                              kept * (sizeof(long) + 1));
+        return value;
+    }
+
+    /// Peak heap bytes over the phases run: node and arc maps, the compacted topology, vertex
+    /// maps and Boykov–Kolmogorov's per-vertex arrays (time stamp, two flags).
+    std::size_t bytes() const { return peakBytes_; }
+
+    /// Frees the buffers (`bytes` keeps the peak); no phase may run afterwards.
+    void release() {
+        for (auto* v : {&nodeMap_, &orig_, &crev_}) std::vector<NodeId>().swap(*v);
+        std::vector<ArcId>().swap(compactOf_);
+        std::vector<double>().swap(cap_);
+        std::vector<double>().swap(res_);
+        std::vector<Edge>().swap(predecessor_);
+        std::vector<boost::default_color_type>().swap(color_);
+        std::vector<long>().swap(distance_);
+    }
+
+private:
+    /// The kept arcs as (tail, head) pairs in compacted numbering, for Boost's CSR constructor.
+    class CompactPairIterator {
+    public:
+        using iterator_category = std::input_iterator_tag;
+        using value_type = std::pair<NodeId, NodeId>;
+        using difference_type = std::ptrdiff_t;
+        using pointer = const value_type*;
+        using reference = const value_type&;
+
+        CompactPairIterator(const PhaseSolver& s, std::size_t k) : s_(&s), k_(k) { settle(); }
+        reference operator*() const { return pair_; }
+        pointer operator->() const { return &pair_; }
+        CompactPairIterator& operator++() {
+            ++k_;
+            settle();
+            return *this;
+        }
+        bool operator==(const CompactPairIterator& o) const { return k_ == o.k_; }
+        bool operator!=(const CompactPairIterator& o) const { return k_ != o.k_; }
+
+    private:
+        void settle() {
+            if (k_ >= s_->orig_.size()) return;
+            const FlowNetwork& net = s_->net_;
+            const ArcId a = s_->orig_[k_];
+            while (net.arcBegin[tail_ + 1] <= a) ++tail_;
+            pair_ = {s_->nodeMap_[tail_], s_->nodeMap_[net.arcTarget[a]]};
+        }
+        const PhaseSolver* s_;
+        std::size_t k_;
+        NodeId tail_ = 0;
+        value_type pair_{0, 0};
+    };
+
+    /// The reverse of a compacted arc as a Boost edge descriptor.
+    struct CompactReverse {
+        const Graph* g;
+        const std::vector<ArcId>* crev;
+        Edge operator()(const Edge& e) const { return Edge(boost::target(e, *g), (*crev)[e.idx]); }
+    };
+
+    const FlowNetwork& net_;
+    bool keepAll_;
+    std::vector<NodeId> nodeMap_;   ///< compacted id of each network node (max = dropped)
+    std::vector<ArcId> compactOf_;  ///< compacted id of each kept network arc (stale for the others)
+    std::vector<ArcId> orig_;       ///< network arc of each compacted arc, increasing
+    std::vector<ArcId> crev_;       ///< compacted reverse of each compacted arc
+    std::vector<double> cap_;       ///< capacity of each compacted arc
+    std::vector<double> res_;       ///< residual capacity of each compacted arc
+    std::vector<Edge> predecessor_;
+    std::vector<boost::default_color_type> color_;
+    std::vector<long> distance_;
+    std::size_t peakBytes_ = 0;
+};
+
 }  // namespace
 
 MaxFlowResult maxFlow(const FlowNetwork& net, MaxFlowAlgorithm algorithm) {
@@ -170,51 +349,117 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
 
     // Resistance of arc a: the network's, except on the arcs between the protosinks and the
     // super-sink (the sink's own arcs, [sinkBegin, end), and their reverses), whose costs are set
-    // below in `sinkCost`, indexed by the sink's arc.
+    // below in `sinkCost`, indexed by the sink's arc. The loops below read the network through
+    // plain pointers (the vectors do not change size).
     const ArcId sinkBegin = net.arcBegin[net.sink];
     std::vector<double> sinkCost(arcs - sinkBegin, 0.0);
-    const auto resistanceOf = [&](ArcId a) {
-        if (a >= sinkBegin) return sinkCost[a - sinkBegin];
-        if (net.arcTarget[a] == net.sink) return sinkCost[net.arcReverse[a] - sinkBegin];
-        return net.resistance[a];
-    };
-    // Arc cost w and residual r of pushing along arc a given the current net flow: first cancel
-    // flow running the other way (refunding its resistance), then add flow (paying it).
-    const auto residualOf = [&](ArcId a, double& w) {
-        const double f = flow[a];
-        if (f < 0) {
-            w = -resistanceOf(a);
-            return -f;
+    const ArcId* const arcBegin = net.arcBegin.data();
+    const NodeId* const arcTarget = net.arcTarget.data();
+    const ArcId* const arcReverse = net.arcReverse.data();
+    const double* const capacity = net.capacity.data();
+    const double* const resistance = net.resistance.data();
+    const double* const sinkCostOf = sinkCost.data();
+    const NodeId sink = net.sink;
+    double* const f = flow.data();
+    // Arc cost w and residual r of pushing along arc a (tail ≠ sink, head v) given the current
+    // net flow: first cancel flow running the other way (refunding its resistance), then add
+    // flow (paying it).
+    const auto residualOf = [&](ArcId a, NodeId v, double& w) {
+        const double res = v == sink ? sinkCostOf[arcReverse[a] - sinkBegin] : resistance[a];
+        const double fa = f[a];
+        if (fa < 0) {
+            w = -res;
+            return -fa;
         }
-        w = resistanceOf(a);
-        return net.capacity[a] - f;
+        w = res;
+        return capacity[a] - fa;
     };
 
     // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off).
+    // The heap (4-ary, storage reused by every phase) holds (distance, node) entries that are all
+    // distinct — an entry is pushed only when it lowers the node's distance — so nodes leave it
+    // in one order whatever the heap's layout: by distance, ties by node id. A popped entry
+    // that is no longer its node's distance is stale (the node left earlier); a node that has
+    // left is never lowered again (its distance is at most the popped one, and arcs add ≥ 0),
+    // so it needs no mark of its own. The sink is reached iff it is settled (`dist` finite).
     std::vector<double> pi(nodes, 0.0), dist(nodes);
-    std::vector<std::uint8_t> settled(nodes);
     using Entry = std::pair<double, NodeId>;
+    std::vector<Entry> heap;
     const auto dijkstra = [&](bool throughSink) {
         std::fill(dist.begin(), dist.end(), kInf);
-        std::fill(settled.begin(), settled.end(), 0);
-        std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
-        dist[net.source] = 0;
-        heap.push({0.0, net.source});
+        double* const d = dist.data();
+        const double* const p = pi.data();
+        const double* const fl = f;
+        const double* const cap = capacity;
+        const double* const res = resistance;
+        const double* const sc = sinkCostOf;
+        const ArcId* const first = arcBegin;
+        const NodeId* const head = arcTarget;
+        const ArcId* const rev = arcReverse;
+        const NodeId to = sink;
+        const ArcId scBegin = sinkBegin;
+        const double eps = flowEps;
+        heap.clear();
+        d[net.source] = 0;
+        heap.push_back({0.0, net.source});
         while (!heap.empty()) {
-            const auto [d, u] = heap.top();
-            heap.pop();
-            if (settled[u]) continue;
-            settled[u] = 1;
-            if (u == net.sink) break;  // early exit: the rest is at least this far
-            for (ArcId a = net.arcBegin[u]; a < net.arcBegin[u + 1]; ++a) {
-                const NodeId v = net.arcTarget[a];
-                if (settled[v] || (!throughSink && v == net.sink)) continue;
+            const auto [du, u] = heap.front();
+            // Pop: sift the last entry down from the root (children of i: 4i + 1 … 4i + 4).
+            const Entry last = heap.back();
+            heap.pop_back();
+            if (!heap.empty()) {
+                Entry* const h = heap.data();
+                const std::size_t n = heap.size();
+                std::size_t i = 0;
+                for (;;) {
+                    const std::size_t c0 = 4 * i + 1;
+                    if (c0 >= n) break;
+                    std::size_t m = c0;
+                    const std::size_t cEnd = std::min(c0 + 4, n);
+                    for (std::size_t c = c0 + 1; c < cEnd; ++c)
+                        if (h[c] < h[m]) m = c;
+                    if (!(h[m] < last)) break;
+                    h[i] = h[m];
+                    i = m;
+                }
+                h[i] = last;
+            }
+            if (du != d[u]) continue;  // stale
+            if (u == to) break;        // early exit: the rest is at least this far
+            const double pu = p[u];
+            for (ArcId a = first[u], end = first[u + 1]; a < end; ++a) {
+                const NodeId v = head[a];
                 double w;
-                if (residualOf(a, w) <= flowEps) continue;
-                const double nd = d + std::max(0.0, w + pi[u] - pi[v]);
-                if (nd < dist[v]) {
-                    dist[v] = nd;
-                    heap.push({nd, v});
+                if (v == to) {
+                    if (!throughSink) continue;
+                    w = sc[rev[a] - scBegin];
+                } else {
+                    w = res[a];
+                }
+                const double fa = fl[a];
+                double r;
+                if (fa < 0) {
+                    w = -w;
+                    r = -fa;
+                } else {
+                    r = cap[a] - fa;
+                }
+                if (r <= eps) continue;
+                const double nd = du + std::max(0.0, w + pu - p[v]);
+                if (nd < d[v]) {
+                    d[v] = nd;
+                    // Push: sift up (parent of i: (i − 1) / 4).
+                    const Entry e{nd, v};
+                    heap.push_back(e);
+                    Entry* const h = heap.data();
+                    std::size_t i = heap.size() - 1;
+                    while (i > 0) {
+                        const std::size_t parent = (i - 1) / 4;
+                        if (!(e < h[parent])) break;
+                        h[i] = h[parent];
+                        i = parent;
+                    }
+                    h[i] = e;
                 }
             }
         }
@@ -239,38 +484,103 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     pi[net.sink] = toSink;
     const double tol = std::max(options.tolerance, 1e-9) * std::max(longest, 1e-300);
 
-    BoostSolver solver(net);
-    std::vector<double> phaseCap(arcs), phaseRes(arcs);
+    // Every pair's net flow as the phases leave it on pairs they do not touch: the lower arc's
+    // +0 and its reverse's −0 (the phase solver updates only the pairs it keeps).
+    for (ArcId a = 0; a < arcs; ++a)
+        if (a < net.arcReverse[a]) flow[net.arcReverse[a]] = -flow[a];
+    PhaseSolver solver(net);
+    const bool keepAll = solver.keepsAll();
+    // 1 where an arc has its reverse's capacity (most voxel arcs): the reverse's capacity is
+    // then read from the arc itself rather than gathered.
+    std::vector<std::uint8_t> capSymmetric(arcs);
+    std::size_t compactBytes = 0;  // peak of the compacted phases
+    std::size_t lastBytes = 0;     // the last phase's, when it is the plain max flow
+    for (ArcId a = 0; a < arcs; ++a) capSymmetric[a] = capacity[a] == capacity[arcReverse[a]];
+    const NodeId voxels = NodeId(net.voxelNodes);
     for (int phase = 1;; ++phase) {
         if (phase > 1) {
             dijkstra(true);
-            if (!settled[net.sink]) break;  // no augmenting path: the flow is maximum
+            if (dist[net.sink] == kInf) break;  // no augmenting path: the flow is maximum
             const double dT = dist[net.sink];
             for (std::size_t v = 0; v < nodes; ++v) pi[v] += std::min(dist[v], dT);
         }
         out.phases = phase;
-        const bool last = phase >= options.maxPhases;
-        for (std::size_t u = 0; u < nodes; ++u)
-            for (ArcId a = net.arcBegin[u]; a < net.arcBegin[u + 1]; ++a) {
-                double w;
-                const double r = residualOf(a, w);
-                const bool tight = w + pi[u] - pi[net.arcTarget[a]] <= tol;
-                // The last phase takes every residual arc: plain max flow on what is left.
-                phaseCap[a] = r > flowEps && (tight || last) ? (last ? net.capacity[a] - flow[a] : r) : 0.0;
+        if (phase >= options.maxPhases) {
+            // The last phase takes every residual arc (plain max flow on what is left), nearly
+            // every pair: it runs on the whole network, the phase solver's buffers freed first.
+            compactBytes = solver.bytes() + bytesOf(capSymmetric);
+            solver.release();
+            std::vector<std::uint8_t>().swap(capSymmetric);
+            std::vector<double> phaseCap(arcs), phaseRes(arcs);
+            for (ArcId a = 0; a < arcs; ++a) {
+                const double r = f[a] < 0 ? -f[a] : capacity[a] - f[a];
+                phaseCap[a] = r > flowEps ? capacity[a] - f[a] : 0.0;
             }
-        const double pushed = solver.run(phaseCap, phaseRes, MaxFlowAlgorithm::BoykovKolmogorov);
-        for (ArcId a = 0; a < arcs; ++a) {
-            const ArcId b = net.arcReverse[a];
-            if (a < b) {
-                flow[a] += phaseCap[a] - phaseRes[a];
-                flow[b] = -flow[a];
+            BoostSolver whole(net);
+            out.value += whole.run(phaseCap, phaseRes, MaxFlowAlgorithm::BoykovKolmogorov);
+            for (ArcId a = 0; a < arcs; ++a) {
+                const ArcId b = arcReverse[a];
+                if (a < b) {
+                    f[a] += phaseCap[a] - phaseRes[a];
+                    f[b] = -f[a];
+                }
             }
+            lastBytes = whole.bytes() + bytesOf(phaseCap) + bytesOf(phaseRes);
+            break;
         }
-        out.value += pushed;
-        if (last) break;
+        const double* const p = pi.data();
+        // Phase capacity of every arc: its residual where it is tight (on a least-resistance
+        // path), 0 elsewhere. An arc is handed to the solver when it or its reverse has
+        // capacity; the reverse's is worked out here from this arc (its flow is −f, its
+        // resistance the same) with the same arithmetic as at its own turn.
+        solver.begin();
+        const double* const res = resistance;
+        const double* const fl = f;
+        const double* const cp = capacity;
+        for (NodeId u = 0; u < nodes; ++u) {
+            const double pu = p[u];
+            bool any = false;
+            for (ArcId a = arcBegin[u], end = arcBegin[u + 1]; a < end; ++a) {
+                const NodeId v = arcTarget[a];
+                const double fa = fl[a];
+                double c;
+                if (u >= voxels || v >= voxels || keepAll) {  // terminal pairs are always kept
+                    double w;
+                    double r;
+                    if (a >= sinkBegin) {  // the sink's own arcs
+                        w = fa < 0 ? -sinkCostOf[a - sinkBegin] : sinkCostOf[a - sinkBegin];
+                        r = fa < 0 ? -fa : cp[a] - fa;
+                    } else {
+                        r = residualOf(a, v, w);
+                    }
+                    c = r > flowEps && w + pu - p[v] <= tol ? r : 0.0;
+                } else {
+                    // Between voxels: this arc costs w, its reverse (flow −fa, same resistance) wb.
+                    const double pv = p[v];
+                    const double w = fa < 0 ? -res[a] : res[a];
+                    const double wb = fa > 0 ? -res[a] : res[a];
+                    const bool tight = w + pu - pv <= tol;
+                    const bool tightB = wb + pv - pu <= tol;
+                    if (!(tight || tightB)) continue;  // neither arc can carry phase flow
+                    const double r = fa < 0 ? -fa : cp[a] - fa;
+                    c = r > flowEps && tight ? r : 0.0;
+                    if (!(c > 0)) {  // kept anyway when the reverse has phase capacity
+                        const double fb = -fa;
+                        if (!tightB) continue;
+                        const double capB = capSymmetric[a] ? cp[a] : cp[arcReverse[a]];
+                        if (!((fb < 0 ? -fb : capB - fb) > flowEps)) continue;
+                    }
+                }
+                solver.keep(a, c);
+                any = true;
+            }
+            solver.endNode(u, any);
+        }
+        out.value += solver.run(flow);
     }
-    out.solverBytes = solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(settled) +
-                      bytesOf(phaseCap) + bytesOf(phaseRes);
+    if (compactBytes == 0) compactBytes = solver.bytes() + bytesOf(capSymmetric);
+    out.solverBytes =
+        std::max(compactBytes, lastBytes) + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap);
     out.cost = flowCost(net, flow);
     return out;
 }

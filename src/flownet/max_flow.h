@@ -14,7 +14,11 @@
 /// phase finds least-resistance distances with Dijkstra's algorithm (reduced costs, Johnson
 /// potentials) and then pushes a maximum flow through the arcs that lie on least-resistance paths
 /// with `boost::boykov_kolmogorov_max_flow`. Phases repeat until no augmenting path is left, so
-/// the result is a maximum flow — an augmenting-path method of the Ford–Fulkerson family.
+/// the result is a maximum flow — an augmenting-path method of the Ford–Fulkerson family. Each
+/// phase's Boykov–Kolmogorov runs on a copy of the network holding only the arc pairs with phase
+/// capacity (typically a tenth of them) and the terminals' pairs, in network order; a pair
+/// without capacity either way is inert in Boost's algorithm, so the flows are bit for bit those
+/// of a run over the whole network (max_flow.cpp argues it, a test checks it).
 ///
 /// **Why Boykov–Kolmogorov** for the inner (and the plain) max flow: it keeps two search trees,
 /// grown from source and sink, and reuses them after every augmentation instead of searching the
