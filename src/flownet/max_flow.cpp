@@ -498,6 +498,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     for (ArcId a = 0; a < arcs; ++a) capSymmetric[a] = capacity[a] == capacity[arcReverse[a]];
     const NodeId voxels = NodeId(net.voxelNodes);
     for (int phase = 1;; ++phase) {
+        if (options.beforePhase) options.beforePhase();
         if (phase > 1) {
             dijkstra(true);
             if (dist[net.sink] == kInf) break;  // no augmenting path: the flow is maximum

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "flownet/flow_network.h"
@@ -72,6 +73,9 @@ struct LeastResistanceOptions {
     /// After this many phases the remaining augmenting paths are found by plain
     /// Boykov–Kolmogorov (still a maximum flow, no longer least-resistance); ≥ 1.
     int maxPhases = 100;
+    /// Called before every phase (the solve's safe points: a large zone takes seconds to minutes).
+    /// It may throw (e.g. `Cancelled`) to stop the solve; nothing is left half-done. Empty = none.
+    std::function<void()> beforePhase;
 };
 
 /// The maximum flow of least total resistance (see the file comment).

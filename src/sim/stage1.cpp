@@ -402,7 +402,13 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
                 const flownet::FlowNetwork net =
                     flownet::buildFlowNetwork(porosityIn(w.frame), w.voxels, w.sources, w.protosinks, netOptions);
                 w.stats.buildSeconds = tz.seconds();
-                flownet::MaxFlowResult flow = flownet::leastResistanceMaxFlow(net);
+                // Every phase is a safe point: the progress callback may stop the run there.
+                flownet::LeastResistanceOptions solve;
+                solve.beforePhase = [&] {
+                    std::lock_guard<std::mutex> lock(progressMutex);
+                    reportProgress(progress, "stage 1: flow networks", done.load(), long(nSources));
+                };
+                flownet::MaxFlowResult flow = flownet::leastResistanceMaxFlow(net, solve);
                 w.stats.cyclesCancelled = long(flownet::cancelFlowCycles(net, flow));
                 w.stats.solveSeconds = tz.seconds() - w.stats.buildSeconds;
                 const flownet::ProtochannelTree tree = flownet::traceProtochannels(net, flow, traceOptions);

@@ -316,5 +316,29 @@ TEST(MaxFlow, PhaseLimitStillGivesTheMaximumFlow) {
     expectValidFlow(net, one);
 }
 
+TEST(MaxFlow, LeastResistanceCallsBeforeEveryPhaseAndStopsWhenItThrows) {
+    const Dims d{9, 7, 8};
+    const Grid3<float> R = randomPorosity(d, 3);
+    const std::size_t src = d.index(4, 3, 4);
+    const FlowNetwork net = buildFlowNetwork(R, allVoxels(d), {src}, outerFaces(d, {src}));
+    int calls = 0;
+    LeastResistanceOptions counted;
+    counted.beforePhase = [&] { ++calls; };
+    const MaxFlowResult r = leastResistanceMaxFlow(net, counted);
+    const MaxFlowResult plain = leastResistanceMaxFlow(net);
+    ASSERT_GT(r.phases, 1);
+    // Once before each phase, and once more before the search that finds no augmenting path.
+    EXPECT_GE(calls, r.phases);
+    EXPECT_LE(calls, r.phases + 1);
+    EXPECT_EQ(r.flow, plain.flow);  // the callback changes nothing
+    int seen = 0;
+    LeastResistanceOptions stop;
+    stop.beforePhase = [&] {
+        if (++seen == 2) throw Cancelled("test");
+    };
+    EXPECT_THROW(leastResistanceMaxFlow(net, stop), Cancelled);
+    EXPECT_EQ(seen, 2);
+}
+
 }  // namespace
 }  // namespace cavesim::flownet
