@@ -78,7 +78,11 @@ Vec3d sampleFisher(const Vec3d& mean, double kappa, Rng& rng) {
     CAVESIM_CHECK(kappa > 0, "sampleFisher: kappa must be positive");
     const double u = uniformOpen01(rng), v = uniformOpen01(rng);
     // cos θ from the inverse CDF, written to stay accurate for large kappa (e^(−2κ) underflows to 0).
-    const double w = std::clamp(1.0 + std::log(u + (1.0 - u) * std::exp(-2.0 * kappa)) / kappa, -1.0, 1.0);
+    // For small kappa e^(−2κ) rounds to 1 and ln(…) / κ to 0 or noise (every pole on the mean below
+    // κ ≈ 1e-16): there ln(1 − (1 − u)(1 − e^(−2κ))) is taken through log1p and expm1.
+    const double lnTerm = kappa < 1e-3 ? std::log1p(-(1.0 - u) * -std::expm1(-2.0 * kappa))
+                                       : std::log(u + (1.0 - u) * std::exp(-2.0 * kappa));
+    const double w = std::clamp(1.0 + lnTerm / kappa, -1.0, 1.0);
     const double s = std::sqrt(std::max(0.0, 1.0 - w * w)), phi = 2.0 * kPi * v;
     const Eigen::Vector3d local(s * std::cos(phi), s * std::sin(phi), w);
     const Eigen::Vector3d m = eig(mean).normalized();

@@ -84,6 +84,25 @@ TEST(Fractures, FisherSamplesMeasureBackMeanAndKappa) {
     }
 }
 
+TEST(Fractures, FisherSamplesOfTinyKappaAreUniform) {
+    // κ → 0 is the uniform distribution on the sphere: cos θ uniform in [−1, 1], mean 0, variance 1/3.
+    // (e^(−2κ) rounding to 1 once put every pole on the mean pole.)
+    const Vec3d mean = poleFromOrientation(0, 90);
+    for (double kappa : {1e-300, 1e-17, 1e-9, 1e-4}) {
+        Rng rng(familySeed(3, 1));
+        double sum = 0, sumSq = 0;
+        const int n = 40000;
+        for (int i = 0; i < n; ++i) {
+            const Vec3d p = sampleFisher(mean, kappa, rng);
+            const double c = p[0] * mean[0] + p[1] * mean[1] + p[2] * mean[2];
+            sum += c;
+            sumSq += c * c;
+        }
+        EXPECT_NEAR(sum / n, 0.0, 0.02) << "kappa " << kappa;
+        EXPECT_NEAR(sumSq / n, 1.0 / 3.0, 0.02) << "kappa " << kappa;
+    }
+}
+
 TEST(Fractures, PowerLawLengthsFitTheirExponent) {
     for (double a : {1.5, 2.5, 3.5}) {
         Rng rng(5);
