@@ -31,7 +31,7 @@ std::string validateSummary(const std::string& path) {
                   "stage 2 %s",
                   path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize,
                   s.sources.size() + rechargeSources(s).size(), s.sinks.size(), s.stage1.enabled ? "on" : "off",
-                  s.stage2.enabled ? (std::to_string(s.stage2.iterations) + " iterations").c_str() : "off");
+                  s.stage2.enabled ? (std::to_string(s.stage2.totalIterations()) + " iterations").c_str() : "off");
     return std::string(buf) + "; " + describeEstimate(estimateRun(s, int(tbb::info::default_concurrency())));
 }
 

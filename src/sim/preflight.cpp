@@ -81,7 +81,8 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
         e.peakBytes = e.stage2Bytes;
         e.peakPhase = "stage 2";
     }
-    e.seconds = n * kFixedNs * 1e-9 + (s.stage2.enabled ? n * double(s.stage2.iterations) * kIterationNs * 1e-9 : 0);
+    e.seconds =
+        n * kFixedNs * 1e-9 + (s.stage2.enabled ? n * double(s.stage2.totalIterations()) * kIterationNs * 1e-9 : 0);
     if (s.speleothems.enabled) {
         estimateSpeleothems(s, expectedCaveSurface(s), e);
         e.speleoBytes += domain;

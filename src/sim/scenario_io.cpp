@@ -569,7 +569,7 @@ void validateHydrology(const Scenario& s) {
     const auto checkLevel = [&](double level, const void* field, int line, const std::string& entry) {
         if (level == -1.0 || (level >= 0 && level <= nz - 1)) return;
         std::ostringstream os;
-        os << where(s, line) << ": key '" << scenarioKey(s, field) << "'" << entry << " = " << level
+        os << where(s, line) << ": key '" << scenarioKey(s, field) << "'" << entry << " = " << shortestText(level)
            << ": a water table must lie in the block, 0 to nz - 1 = " << nz - 1
            << " (voxel index units), or be -1 for none";
         throw InputError(os.str());
@@ -646,8 +646,8 @@ void validateScenario(const Scenario& s) {
                     dist = std::max({dist, double(s.sinks[j].box.lo[c]) - p[c], p[c] - double(s.sinks[j].box.hi[c])});
                 if (dist > s.stage1.sinkGap) continue;
                 std::ostringstream os;
-                os << s.path << ": key '" << scenarioKey(s, &s.stage1.aim) << "' point " << a + 1 << " = [" << p[0]
-                   << ", " << p[1] << ", " << p[2] << "] lies "
+                os << s.path << ": key '" << scenarioKey(s, &s.stage1.aim) << "' point " << a + 1 << " = ["
+                   << shortestText(p[0]) << ", " << shortestText(p[1]) << ", " << shortestText(p[2]) << "] lies "
                    << (dist <= 0 ? std::string("inside") : "within " + std::to_string(s.stage1.sinkGap) + " voxels of")
                    << " " << sink.header() << " entry " << j + 1 << " (line " << s.sinks[j].line
                    << "): an aim point must be more than '" << scenarioKey(s, &s.stage1.sinkGap)
