@@ -552,7 +552,8 @@ std::vector<ParamSection> makeRegistry() {
                 .rangeShown("[] or 4 column indices inside the top face, x0 ≤ x1, y0 ≤ y1"),
             integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many"),
             integer("radius", &RechargeSpec::radius, rng(0, 64),
-                    "sinkholes: each is a (2r+1)² × (r+1) box under the top face, at least 2r+1 apart")
+                    "sinkholes: each is a (2r+1)² × (r+1) box under the top face (2r+1 at most the area's sides, r+1 "
+                    "at most nz), at least 2r+1 apart")
                 .unitIs("voxels"),
             real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
                 .unitIs("voxels"),
@@ -1040,6 +1041,8 @@ std::string rangeText(const Param& p) {
             return "–";
         case ParamType::kChoice:
             return choicesText(p);
+        case ParamType::kChoiceList:
+            return "distinct values out of " + choicesText(p);
         case ParamType::kInt:
         case ParamType::kInt3:
         case ParamType::kIntList:

@@ -173,6 +173,15 @@ sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0,
   recharge_out.toml > stream_out.toml
 expect_exit 2 "stream outside the block" -- "$CAVESIM" validate stream_out.toml
 stderr_has "key 'recharge.points' = [[1, 0, 11], [18, 0, 11]]: recharge outside the land surface"
+# A sinkhole box that does not fit its area or the block's height (it was cut to the block), and
+# recharge on a sink (the message names the kind).
+sed -e 's/^area = .*/area = [2, 0, 12, 0]/' -e 's/^count = 2/count = 1\nradius = 1/' recharge_out.toml > sinkhole_wide.toml
+expect_exit 2 "sinkhole wider than its area" -- "$CAVESIM" validate sinkhole_wide.toml
+stderr_has "key 'recharge.radius' = 1: a sinkhole of radius r is a (2r+1) × (2r+1) × (r+1) box, which must fit in its area [2, 0, 12, 0]"
+sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[11.0, 0.0, 11.0], [15.0, 0.0, 11.0]]/' \
+  recharge_out.toml > stream_sink.toml
+expect_exit 2 "stream onto a sink" -- "$CAVESIM" validate stream_sink.toml
+stderr_has "key 'recharge.kind' = \"stream\" (entry 1): an input at [15, 0, 11] overlaps [[sink]] entry 1"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"
