@@ -558,6 +558,19 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
     const ParamSection& topSection = scenarioParameters().front();
     readSection(topSection, root, top, &s, ctx);
     validateScenario(s);
+    // A snapshot the run never reaches (0, or after its last iteration) would silently give no picture.
+    if (s.stage2.enabled) {
+        const long total = s.stage2.totalIterations();
+        for (int it : s.stage2.snapshots)
+            if (it < 1 || it > total) {
+                const toml::node* n = root.at_path("stage2.snapshots").node();
+                const int line = n ? int(n->source().begin.line) : 0;
+                throw InputError(
+                    where(s, line) + ": key '" + scenarioKey(s, &s.stage2.snapshots) + "' = " + std::to_string(it) +
+                    ": a snapshot is taken after one of the run's stage-2 iterations, 1 to " + std::to_string(total) +
+                    (s.stage2.phases.empty() ? std::string() : " (the [[phase]] iterations together)"));
+            }
+    }
     return s;
 }
 

@@ -182,6 +182,11 @@ sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[11.0
   recharge_out.toml > stream_sink.toml
 expect_exit 2 "stream onto a sink" -- "$CAVESIM" validate stream_sink.toml
 stderr_has "key 'recharge.kind' = \"stream\" (entry 1): an input at [15, 0, 11] overlaps [[sink]] entry 1"
+# A snapshot the run never reaches would give no picture: refused, with the line.
+sed 's/^iterations = 30/iterations = 30\nsnapshots = [10, 31]/' good.toml > snap_late.toml
+expect_exit 2 "snapshot after the last iteration" -- "$CAVESIM" run snap_late.toml --out o16
+stderr_has "snap_late.toml:17: key 'stage2.snapshots' = 31: a snapshot is taken after one of the run's stage-2 iterations, 1 to 30"
+[ ! -e o16 ] && pass "no output for an unreachable snapshot" || fail "o16 was created"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"
