@@ -548,6 +548,18 @@ std::string where(const Scenario& s, int line) {
     return s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
 }
 
+/// A snapshot the run never reaches (0, or after its last iteration) would silently give no picture.
+void checkSnapshots(const Scenario& s, int line) {
+    if (!s.stage2.enabled) return;
+    const long total = s.stage2.totalIterations();
+    for (int it : s.stage2.snapshots)
+        if (it < 1 || it > total)
+            throw InputError(
+                where(s, line) + ": key '" + scenarioKey(s, &s.stage2.snapshots) + "' = " + std::to_string(it) +
+                ": a snapshot is taken after one of the run's stage-2 iterations, 1 to " + std::to_string(total) +
+                (s.stage2.phases.empty() ? std::string() : " (the [[phase]] iterations together)"));
+}
+
 }  // namespace
 
 Scenario parseScenarioTable(const toml::table& root, const std::string& sourceName) {
@@ -557,20 +569,9 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
     ParseContext ctx{s, sourceName};
     const ParamSection& topSection = scenarioParameters().front();
     readSection(topSection, root, top, &s, ctx);
+    const toml::node* snapshots = root.at_path("stage2.snapshots").node();
+    checkSnapshots(s, snapshots ? int(snapshots->source().begin.line) : 0);
     validateScenario(s);
-    // A snapshot the run never reaches (0, or after its last iteration) would silently give no picture.
-    if (s.stage2.enabled) {
-        const long total = s.stage2.totalIterations();
-        for (int it : s.stage2.snapshots)
-            if (it < 1 || it > total) {
-                const toml::node* n = root.at_path("stage2.snapshots").node();
-                const int line = n ? int(n->source().begin.line) : 0;
-                throw InputError(
-                    where(s, line) + ": key '" + scenarioKey(s, &s.stage2.snapshots) + "' = " + std::to_string(it) +
-                    ": a snapshot is taken after one of the run's stage-2 iterations, 1 to " + std::to_string(total) +
-                    (s.stage2.phases.empty() ? std::string() : " (the [[phase]] iterations together)"));
-            }
-    }
     return s;
 }
 
@@ -628,6 +629,13 @@ bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
 }
 
 void validateScenario(const Scenario& s) {
+    // Checks the reader makes across keys, again for a scenario changed after reading (an ensemble's
+    // --vary): p_rate_channel at most p_rate, snapshots the run reaches.
+    if (s.stage2.pRateChannel > s.stage2.pRate)
+        throw InputError(s.path + ": key '" + scenarioKey(s, &s.stage2.pRateChannel) + "' = " +
+                         shortestText(s.stage2.pRateChannel) + ": must not exceed " + scenarioKey(s, &s.stage2.pRate) +
+                         " (" + shortestText(s.stage2.pRate) + "): channels resist flow less than rock");
+    checkSnapshots(s, 0);
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
     const ParamSection& sink = sectionOf([](Scenario& p) { return &p.sinks[0].box; });
     const auto checkInside = [&](const ParamSection& section, const VoxelBox& box, int line, std::size_t i) {
