@@ -751,12 +751,14 @@ std::vector<ParamSection> makeRegistry() {
                 .defaultShown("-1 ([hydrology])")
                 .rangeShown("-1, or 0 – nz − 1"),
             intList("sinks", &Stage2Phase::sinks, rng(1, 256),
-                    "the `[[sink]]` entries (1-based, in file order) that drain during this phase; empty = all")
+                    "the sinks that drain during this phase (1-based: the `[[sink]]` entries in file order, then a "
+                    "`[site]`'s springs); empty = all")
                 .items(0, 256)
                 .shape("an array of sink numbers")
                 .rangeShown("1 – number of sinks"),
             intList("sources", &Stage2Phase::sources, rng(1, 256),
-                    "the `[[source]]` entries (1-based, in file order) that inject during this phase; empty = all")
+                    "the sources that inject during this phase (1-based: the `[[source]]` entries in file order, then "
+                    "the `[[recharge]]` inputs, then a `[site]`'s sinkholes); empty = all")
                 .items(0, 256)
                 .shape("an array of source numbers")
                 .rangeShown("1 – number of sources"),

@@ -603,24 +603,41 @@ void validateHydrology(const Scenario& s) {
         const Stage2Phase& ph = phases[n];
         const std::string entry = " (entry " + std::to_string(n + 1) + ")";
         checkLevel(ph.waterTable, &ph.waterTable, ph.line, entry);
-        const auto checkIndices = [&](const std::vector<int>& list, const void* field, std::size_t count, bool fromSite,
-                                      const char* what) {
-            if (fromSite) return;  // a [site]'s sinkholes and springs are counted when the site is read
-            for (int x : list)
-                if (x < 1 || std::size_t(x) > count) {
-                    std::ostringstream os;
-                    os << where(s, ph.line) << ": key '" << scenarioKey(s, field) << "'" << entry << " names " << what
-                       << " " << x << ": the scenario has " << count << " [[" << what << "]] entries, numbered 1 to "
-                       << count << " in file order";
-                    throw InputError(os.str());
-                }
-        };
-        checkIndices(ph.sinks, &ph.sinks, s.sinks.size(), !s.site.springs.empty(), "sink");
-        checkIndices(ph.sources, &ph.sources, s.sources.size(), !s.site.sinkholes.empty(), "source");
     }
+    // A site's sinkholes and springs are numbered too: checked when the site is read.
+    const bool siteTerminals = !s.site.sinkholes.empty() || !s.site.springs.empty();
+    if (!siteTerminals || s.siteData) validatePhaseTerminals(s);
 }
 
 }  // namespace
+
+void validatePhaseTerminals(const Scenario& s) {
+    if (s.stage2.phases.empty()) return;
+    const std::size_t given = s.sources.size(), recharge = rechargeSources(s).size();
+    const std::size_t siteSources = s.siteData ? s.siteData->sources.size() : 0;
+    const std::size_t siteSinks = s.siteData ? s.siteData->sinks.size() : 0;
+    const std::size_t sources = given + recharge + siteSources, sinks = s.sinks.size() + siteSinks;
+    for (std::size_t n = 0; n < s.stage2.phases.size(); ++n) {
+        const Stage2Phase& ph = s.stage2.phases[n];
+        const auto check = [&](const std::vector<int>& list, const void* field, std::size_t count, const char* what,
+                               const std::string& numbering) {
+            for (int x : list)
+                if (x < 1 || std::size_t(x) > count) {
+                    std::ostringstream os;
+                    os << where(s, ph.line) << ": key '" << scenarioKey(s, field) << "' (entry " << n + 1 << ") names "
+                       << what << " " << x << ": the run has " << count << " " << what << "s, numbered 1 to " << count
+                       << " (" << numbering << ")";
+                    throw InputError(os.str());
+                }
+        };
+        check(ph.sinks, &ph.sinks, sinks, "sink",
+              std::to_string(s.sinks.size()) + " [[sink]] entries in file order, then " + std::to_string(siteSinks) +
+                  " [site] springs");
+        check(ph.sources, &ph.sources, sources, "source",
+              std::to_string(given) + " [[source]] entries in file order, then " + std::to_string(recharge) +
+                  " [[recharge]] inputs, then " + std::to_string(siteSources) + " [site] sinkholes");
+    }
+}
 
 bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
     for (int c = 0; c < 3; ++c)

@@ -483,6 +483,7 @@ void loadSite(Scenario& s) {
     if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && data->sources.empty())
         throw InputError(s.path + ": a stage needs at least one source, and the sinkholes file has no rows");
     s.siteData = std::move(data);
+    validatePhaseTerminals(s);  // phases may name the site's sinkholes and springs
 #endif
 }
 

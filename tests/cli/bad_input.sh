@@ -50,7 +50,12 @@ stderr_has "phase_empty.toml:1: key 'phase' = []: an empty list"
 refused_after_good phase_zero "phase with zero iterations" '[[phase]]\niterations = 0\n'
 stderr_has "phase.iterations' = 0"
 refused_after_good phase_sink "phase sink out of range" '[[phase]]\niterations = 10\nsinks = [2]\n'
-stderr_has "key 'phase.sinks' (entry 1) names sink 2: the scenario has 1 [[sink]] entries"
+stderr_has "key 'phase.sinks' (entry 1) names sink 2: the run has 1 sinks, numbered 1 to 1 (1 [[sink]] entries in file order, then 0 [site] springs)"
+# Phase sources are numbered over the [[source]] entries, then the [[recharge]] inputs: a phase that
+# lists sources could once only name [[source]] entries, and silently switched the recharge off.
+refused_after_good phase_recharge "phase source beyond the recharge inputs" \
+  '[[recharge]]\nkind = "stream"\npoints = [[8, 0, 11], [12, 0, 11]]\n[[phase]]\niterations = 10\nsources = [4]\n'
+stderr_has "key 'phase.sources' (entry 1) names source 4: the run has 3 sources, numbered 1 to 3 (1 [[source]] entries in file order, then 2 [[recharge]] inputs, then 0 [site] sinkholes)"
 refused_after_good phase_table "phase water table below the block" '[[phase]]\niterations = 10\nwater_table = -3\n'
 stderr_has "phase.water_table' = -3"
 refused_after_good phase_high "phase water table above the block" '[[phase]]\niterations = 10\nwater_table = 30\n'
@@ -58,6 +63,15 @@ stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in th
 refused_after_good table_site "water table from a site without one" '[hydrology]\nfrom_site = true\n'
 stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
 [ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
+sed 's/^sources = \[4\]/sources = [3]/' phase_recharge.toml > phase_recharge_ok.toml
+expect_exit 0 "a phase that names a recharge input" -- "$CAVESIM" run phase_recharge_ok.toml --out o17 -q
+python3 - <<'PY' && pass "only the named recharge input injects" || fail "phase sources over recharge inputs"
+import json
+s = json.load(open("o17/report.json"))["stage2"]
+w = s["source_water_injected"]
+assert s["phases"][0]["sources"] == [3], s["phases"][0]["sources"]
+assert w[0] == 0 and w[1] == 0 and w[2] > 0, w
+PY
 
 printf 'name = "x"\n[domain\n' > malformed.toml
 expect_exit 2 "malformed TOML" -- "$CAVESIM" validate malformed.toml

@@ -244,6 +244,34 @@ TEST_F(SiteTest, PointsInInsolubleRockAndByteOrderMarks) {
     for (double z : s.siteData->baseOfLimestone) EXPECT_NEAR(z, 125.0, 1e-9);
 }
 
+// A phase names the site's sinkholes and springs after the [[source]] and [[sink]] entries; a number
+// past them is refused once the site is read (it once ran the phase with no source and no sink).
+TEST_F(SiteTest, PhaseTerminalsCountTheSitesSinkholesAndSprings) {
+    Scenario s = scenario();
+    s.site.sinkholes = text("sinkholes.csv", "x,y,name\n500035,4000025,A\n500055,4000025,B\n");
+    s.site.springs = text("springs.csv", "x,y,z,name\n500075,4000045,105,S\n");
+    Stage2Phase ph;
+    ph.iterations = 5;
+    ph.line = 7;
+    ph.sources = {2};
+    ph.sinks = {1};
+    s.stage2.phases = {ph};
+    EXPECT_EQ(error(s), "");
+    s.stage2.phases[0].sinks = {2};
+    std::string e = error(s);
+    EXPECT_NE(e.find(":7: key 'phase.sinks' (entry 1) names sink 2: the run has 1 sinks, numbered 1 to 1 (0 [[sink]] "
+                     "entries in file order, then 1 [site] springs)"),
+              std::string::npos)
+        << e;
+    s.stage2.phases[0].sinks = {};
+    s.stage2.phases[0].sources = {3};
+    e = error(s);
+    EXPECT_NE(e.find("names source 3: the run has 2 sources, numbered 1 to 2 (0 [[source]] entries in file order, then "
+                     "0 [[recharge]] inputs, then 2 [site] sinkholes)"),
+              std::string::npos)
+        << e;
+}
+
 TEST_F(SiteTest, NoSiteFilesChangeNothing) {
     Scenario s = scenario();
     site::loadSite(s);
