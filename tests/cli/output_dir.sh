@@ -61,4 +61,9 @@ expect_exit 0 "--out with a trailing slash" -- "$CAVESIM" run s.toml --out slash
 expect_exit 0 "--out with a trailing /." -- "$CAVESIM" run s.toml --out slash2/. -q
 expect_exit 0 "--out with a trailing slash and --force over a run" -- "$CAVESIM" run s.toml --out slash/ --force -q
 [ -f slash/report.json ] && [ -f slash2/report.json ] && pass "written into slash/ and slash2/" || fail "trailing slash: $(ls)"
+# An empty --out (an unset variable) is refused; it once wrote to out/<name> instead.
+expect_exit 2 "an empty --out" -- "$CAVESIM" run s.toml --out "" -q
+stderr_has "--out: an empty path"
+[ ! -e out ] && pass "nothing written for an empty --out" || fail "out/ was created"
+expect_exit 2 "an empty ensemble --out" -- "$CAVESIM" ensemble s.toml --members 1 --out ""
 finish
