@@ -132,6 +132,43 @@ double fractureCount(const FractureFamily& f, const Dims& dims) {
     return std::round(volume / (f.spacing * meanDiscArea(f.lengthExponent, f.minLength, f.maxLength)));
 }
 
+namespace {
+
+/// Draws one disc of family `f` (centre, pole, diameter: four draws and one of the length) into
+/// `d` and `length`; whether its axis-aligned extent overlaps the block.
+bool drawDisc(const FractureFamily& f, const Vec3d& mean, double grow, const double size[3], Rng& rng, FractureDisc& d,
+              double& length) {
+    for (int ax = 0; ax < 3; ++ax)
+        d.centre[ax] = -0.5 - grow + (uniformOpen01(rng) - 0x1.0p-54) * (size[ax] + 2 * grow);
+    d.normal = sampleFisher(mean, f.kappa, rng);
+    length = samplePowerLaw(f.lengthExponent, f.minLength, f.maxLength, rng);
+    d.radius = 0.5 * length;
+    bool reaches = true;
+    for (int ax = 0; ax < 3; ++ax) {
+        const double extent = d.radius * std::sqrt(std::max(0.0, 1.0 - d.normal[ax] * d.normal[ax]));
+        reaches = reaches && d.centre[ax] + extent >= -0.5 && d.centre[ax] - extent <= size[ax] - 0.5;
+    }
+    return reaches;
+}
+
+}  // namespace
+
+bool fractureFamilyReachesBlock(const std::vector<FractureFamily>& families, std::size_t family, const Dims& dims,
+                                std::uint64_t seed) {
+    const FractureFamily& f = families[family];
+    const double count = fractureCount(f, dims);
+    const double size[3] = {double(dims.nx), double(dims.ny), double(dims.nz)};
+    Rng rng(familySeed(seed, family));
+    const Vec3d mean = poleFromOrientation(f.dipDirection, f.dip);
+    const double grow = drawMargin(f);
+    for (long n = 0; n < long(count); ++n) {
+        FractureDisc d;
+        double length = 0;
+        if (drawDisc(f, mean, grow, size, rng, d, length)) return true;
+    }
+    return false;
+}
+
 FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& families, const Dims& dims,
                                         std::uint64_t seed) {
     FractureNetwork net;
@@ -149,17 +186,8 @@ FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& famil
         for (long n = 0; n < long(count); ++n) {
             FractureDisc d;
             d.family = int(fi);
-            for (int ax = 0; ax < 3; ++ax)
-                d.centre[ax] = -0.5 - grow + (uniformOpen01(rng) - 0x1.0p-54) * (size[ax] + 2 * grow);
-            d.normal = sampleFisher(mean, f.kappa, rng);
-            const double length = samplePowerLaw(f.lengthExponent, f.minLength, f.maxLength, rng);
-            d.radius = 0.5 * length;
-            bool reaches = true;  // the disc's axis-aligned extent overlaps the block
-            for (int ax = 0; ax < 3; ++ax) {
-                const double extent = d.radius * std::sqrt(std::max(0.0, 1.0 - d.normal[ax] * d.normal[ax]));
-                reaches = reaches && d.centre[ax] + extent >= -0.5 && d.centre[ax] - extent <= size[ax] - 0.5;
-            }
-            if (!reaches) continue;
+            double length = 0;
+            if (!drawDisc(f, mean, grow, size, rng, d, length)) continue;
             ++st.count;
             lengthSum += length;
             areaSum += kPi * d.radius * d.radius;

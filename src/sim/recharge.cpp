@@ -292,6 +292,12 @@ void validateFractureFamilies(const Scenario& s) {
             fail(
                 s, f.line, field, value,
                 "gives " + shortestText(count) + " fractures, at most 10⁶ are allowed: raise spacing or lower density");
+        const std::size_t index = std::size_t(&f - s.fractureFamilies.data());
+        if (!fractureFamilyReachesBlock(s.fractureFamilies, index, dims, s.seed))
+            fail(s, f.line, field, value,
+                 "the fracture family cannot fit: none of its " + shortestText(count) + " discs drawn with seed " +
+                     std::to_string(s.seed) + " reaches the block (" + block +
+                     "): lower spacing or raise density, or shorten max_length");
     }
 }
 

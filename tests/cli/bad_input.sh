@@ -173,6 +173,26 @@ stderr_has "key 'rock.fracture_family.spacing' = 30: the fracture family cannot 
 sed 's/^min_length = 40.0/kappa = 0.0/' frac_long.toml > frac_kappa.toml
 expect_exit 2 "fracture kappa zero" -- "$CAVESIM" validate frac_kappa.toml
 stderr_has "key 'rock.fracture_family.kappa' = 0.0: must be a number in (0,"
+# A family whose drawn discs all miss the block (seed 1 here) cannot fit either: it once ran with
+# no fracture and reported a mean dip of 0.
+cat > frac_none.toml <<'TOML'
+seed = 1
+[domain]
+size = [20, 2, 2]
+[[rock.fracture_family]]
+spacing = 20
+min_length = 20
+max_length = 20
+dip = 0
+kappa = 1000
+[[source]]
+at = [0, 0, 1]
+[stage2]
+enabled = false
+TOML
+expect_exit 2 "fracture family with no disc in the block" -- "$CAVESIM" run frac_none.toml --out o18
+stderr_has "frac_none.toml:4: key 'rock.fracture_family.spacing' = 20: the fracture family cannot fit: none of its 3 discs drawn with seed 1 reaches the block"
+[ ! -e o18 ] && pass "no output for a family with no disc" || fail "o18 was created"
 grep -v -e '^\[\[source\]\]' -e '^at = ' good.toml > recharge_out.toml
 cat >> recharge_out.toml <<'TOML'
 [[recharge]]

@@ -103,6 +103,29 @@ TEST(Fractures, FisherSamplesOfTinyKappaAreUniform) {
     }
 }
 
+TEST(Fractures, ReachesBlockAgreesWithTheNetwork) {
+    // A 20 × 2 × 2 block and 20-voxel discs: about 3 are drawn in the grown box and often none
+    // reaches the block (the run once went on with an empty family and a mean dip of 0).
+    FractureFamily f;
+    f.spacing = 20;
+    f.minLength = f.maxLength = 20;
+    f.dip = 0;
+    f.kappa = 1000;
+    const std::vector<FractureFamily> families{f, f};
+    const Dims dims{20, 2, 2};
+    int empty = 0, kept = 0;
+    for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+        const FractureNetwork net = generateFractureNetwork(families, dims, seed);
+        for (std::size_t fi = 0; fi < families.size(); ++fi) {
+            const bool reaches = fractureFamilyReachesBlock(families, fi, dims, seed);
+            EXPECT_EQ(reaches, net.families[fi].count > 0) << "seed " << seed << " family " << fi;
+            (reaches ? kept : empty) += 1;
+        }
+    }
+    EXPECT_GT(empty, 0);
+    EXPECT_GT(kept, 0);
+}
+
 TEST(Fractures, PowerLawLengthsFitTheirExponent) {
     for (double a : {1.5, 2.5, 3.5}) {
         Rng rng(5);
