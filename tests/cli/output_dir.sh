@@ -66,4 +66,10 @@ expect_exit 2 "an empty --out" -- "$CAVESIM" run s.toml --out "" -q
 stderr_has "--out: an empty path"
 [ ! -e out ] && pass "nothing written for an empty --out" || fail "out/ was created"
 expect_exit 2 "an empty ensemble --out" -- "$CAVESIM" ensemble s.toml --members 1 --out ""
+# A name longer than the file system allows is refused before the run (it failed when the results
+# were moved into place, exit 1, after all the work).
+toolong=$(printf 'n%.0s' $(seq 256))
+expect_exit 2 "a 256-byte --out name" -- "$CAVESIM" run s.toml --out "sub/$toolong" -q
+stderr_has "has 256 bytes; the file system allows at most 255"
+[ ! -e sub ] && pass "nothing created for a name too long" || fail "sub/ was created"
 finish
