@@ -23,10 +23,14 @@ constexpr double kStage2DenseBytes = 22;     // water (double), rate (float), pr
 constexpr double kStage2ActiveBytes = 80;    // per voxel of an active tile: 9 doubles of transients, masks
 constexpr double kActiveShare = 0.6;  // share of the block's tiles that water reaches (fig10 k = 1…4: 0.4–0.5)
 constexpr double kOutputBytes = 40;   // the state grids as OpenVDB trees while state.vdb is written
+// Per stage-2 iteration: its history row, kept in memory and written to report.json (about 330 bytes
+// a row there) as a JSON tree. A 2 × 1 × 1 block: 119 MB peak at 20 000 iterations, 590 MB at 200 000.
+constexpr double kHistoryBytes = 2700;
 
 // Rough time: ns per voxel for the fixed work, ns per voxel-iteration of stage 2.
 constexpr double kFixedNs = 5000;
 constexpr double kIterationNs = 40;
+constexpr double kIterationFixedNs = 13000;  // per iteration whatever the block (2 voxels: 200 000 in 2.8 s)
 // Fracture families: ns per voxel a disc's slab visits (rasterised, then measured). Measured on a
 // 40³ block, 2 cores under load: 407 000 discs of 40 voxels, aperture 3, 12.1 s; 4 070 such discs
 // of aperture 10⁶ (each the whole block), 1.6 s.
@@ -76,6 +80,7 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
     }
     if (s.stage2.enabled) e.stage2Bytes = domain + kStage2DenseBytes * n + kActiveShare * kStage2ActiveBytes * n;
     e.outputBytes = domain + kOutputBytes * n;
+    if (s.stage2.enabled) e.outputBytes += kHistoryBytes * double(s.stage2.totalIterations());
     e.peakBytes = e.outputBytes;
     e.peakPhase = "output";
     if (e.stage1Bytes > e.peakBytes) {
@@ -87,7 +92,8 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
         e.peakPhase = "stage 2";
     }
     e.seconds =
-        n * kFixedNs * 1e-9 + (s.stage2.enabled ? n * double(s.stage2.totalIterations()) * kIterationNs * 1e-9 : 0);
+        n * kFixedNs * 1e-9 +
+        (s.stage2.enabled ? (n * kIterationNs + kIterationFixedNs) * double(s.stage2.totalIterations()) * 1e-9 : 0);
     // A dense fracture network costs time before stage 1: each disc's slab (at most the block).
     const Dims dims{s.size[0], s.size[1], s.size[2]};
     for (const FractureFamily& f : s.fractureFamilies) {
