@@ -164,8 +164,9 @@ private:
 /// `run`.
 using ProgressFn = std::function<void(const std::string& phase, long done, long total)>;
 
-/// Cancels a run from any thread: copies share one flag; `run` checks it at every progress step
-/// (every stage-2 iteration) and throws `cavesim::Cancelled`.
+/// Cancels a run from any thread: copies share one flag; `run` (and `resume`) checks it at every
+/// progress step (every stage-2 iteration) and throws `cavesim::Cancelled`; a checkpoint written
+/// before stays complete.
 class CancelToken {
 public:
     CancelToken() : flag_(std::make_shared<std::atomic<bool>>(false)) {}
@@ -184,6 +185,14 @@ struct RunOptions {
     bool analysis = true;  ///< skeletonize and measure the cave (the report's indices and metrics)
     /// When not empty, stage1.vdb is written there after stage 1, as `cavesim run` writes it.
     std::string stage1StatePath;
+    /// Checkpoints: after every `checkpointEvery`-th stage-2 iteration (0: none; the last
+    /// iteration takes none), stage 2's whole state is written to `checkpointPath`, replacing the
+    /// previous checkpoint atomically, so the file always holds the newest complete one, whenever
+    /// the run stops. `resume(checkpointPath)` finishes the run from it with the grids and report
+    /// numbers of a run that never stopped. The file is the one `cavesim run --checkpoint-every`
+    /// writes (docs/checkpoints.md); it stays after the run (remove it when it is no longer needed).
+    std::string checkpointPath;
+    int checkpointEvery = 0;  ///< stage-2 iterations between checkpoints; 0: none
 };
 
 /// Bits of the `flags` grid (the same as the run's `flags` grid in state.vdb).
@@ -306,6 +315,7 @@ public:
 
 private:
     friend Result run(const Scenario& scenario, const RunOptions& options);
+    friend Result resume(const std::string& checkpointPath, const RunOptions& options);
     explicit Result(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
@@ -316,5 +326,18 @@ private:
 ///        on a failure while running; Cancelled when `options.cancel` was cancelled; whatever the
 ///        progress callback threw
 Result run(const Scenario& scenario, const RunOptions& options = {});
+
+/// Finishes a run from its checkpoint at `checkpointPath` (written by `run` with
+/// `RunOptions::checkpointPath`, or by `cavesim run --checkpoint-every`: the file
+/// `.DIR.checkpoint/checkpoint.cavesim`): the checkpoint holds the scenario (its text, seed and
+/// overrides), so none is given. Builds the domain and runs stage 1 again (deterministic), checks
+/// that they are the ones the checkpoint was made from, then continues stage 2 after the
+/// checkpoint's iteration. The grids and the report's numbers (timings aside; `timing.stage2`
+/// counts the resumed part only) equal those of a run that never stopped, whatever `threads`.
+/// `options` are those of `run`; with `checkpointPath` (it may be the file resumed from) the
+/// resumed run writes checkpoints in turn. `Result::scenario()` is the checkpoint's scenario.
+/// @throw InputError when the file is missing, is not a complete checkpoint (cut, damaged, not a
+///        checkpoint), or no longer matches its scenario or domain; otherwise as `run`
+Result resume(const std::string& checkpointPath, const RunOptions& options = {});
 
 }  // namespace cavesim::api

@@ -4,6 +4,8 @@
     s = cavesim.Scenario.from_toml("scenarios/fig10.toml")    # or Scenario.from_dict({...})
     s["stage2.p_rate"] = 0.4                                  # any scenario key, by its TOML name
     r = cavesim.run(s, threads=2, progress=lambda phase, done, total: None)
+    # or with a checkpoint every 50 stage-2 iterations, finished later by cavesim.resume("run.ckpt")
+    r = cavesim.run(s, checkpoint_path="run.ckpt", checkpoint_every=50)
     r.porosity            # NumPy float32 array, shape (nz, ny, nx): r.porosity[k, j, i]
     r.skeleton.nodes      # (n, 3) node positions in metres; r.skeleton.edges (m, 2)
     r.report["stage2"]["breakthrough_iteration"]
@@ -141,7 +143,8 @@ class Result:
         return f"<cavesim.Result of '{self.scenario.name}' {nx_}x{ny_}x{nz_}>"
 
 
-def run(scenario, threads=0, progress=None, cancel=None, mesh=True, analysis=True, stage1_state=None):
+def run(scenario, threads=0, progress=None, cancel=None, mesh=True, analysis=True, stage1_state=None,
+        checkpoint_path=None, checkpoint_every=0):
     """Runs `scenario` (a Scenario, a dict or a path to a .toml file) and returns a Result.
 
     threads: worker threads, 0 for all cores (results do not depend on it).
@@ -150,16 +153,49 @@ def run(scenario, threads=0, progress=None, cancel=None, mesh=True, analysis=Tru
     cancel: a CancelToken; cancelling it (from any thread) raises cavesim.Cancelled.
     mesh, analysis: build the cave mesh / skeletonize and measure the cave.
     stage1_state: a path to write stage1.vdb to after stage 1, as `cavesim run` does.
+    checkpoint_path, checkpoint_every: after every checkpoint_every-th stage-2 iteration (0: none),
+        write a checkpoint to checkpoint_path, replacing the previous one atomically, so the file
+        always holds the newest complete checkpoint however the run stops (an exception, a cancel,
+        a crash). `resume(checkpoint_path)` finishes the run with the same grids and report numbers.
+        The file is the one `cavesim run --checkpoint-every` writes; it stays after the run. A bad
+        interval or a path in no folder raises cavesim.InputError; a failed write
+        cavesim.RuntimeError.
     """
     if isinstance(scenario, dict):
         scenario = Scenario.from_dict(scenario)
     elif not isinstance(scenario, Scenario):
         scenario = Scenario.from_toml(str(scenario))
-    impl = _cavesim._run(scenario, threads=int(threads), progress=progress,
-                         cancel=cancel if cancel is not None else CancelToken(), mesh=bool(mesh),
-                         analysis=bool(analysis), stage1_state="" if stage1_state is None else str(stage1_state))
+    impl = _cavesim._run(scenario, **_options(threads, progress, cancel, mesh, analysis, stage1_state,
+                                              checkpoint_path, checkpoint_every))
     return Result(impl)
 
 
-__all__ = ["Scenario", "Result", "Mesh", "Skeleton", "CancelToken", "run", "Error", "InputError", "RuntimeError",
+def resume(path, threads=0, progress=None, cancel=None, mesh=True, analysis=True, stage1_state=None,
+           checkpoint_path=None, checkpoint_every=0):
+    """Finishes a run from the checkpoint file at `path` and returns its Result.
+
+    The checkpoint holds the scenario (its text and seed), so none is given; it may come from
+    `run(..., checkpoint_path=...)` or from `cavesim run --checkpoint-every N`
+    (DIR's checkpoint is .DIR.checkpoint/checkpoint.cavesim beside it). Stage 1 runs again
+    (deterministic) and stage 2 continues after the checkpoint's iteration: the grids and the
+    report's numbers (timings aside) are those of a run that never stopped, whatever `threads`.
+    The other arguments are run's; with checkpoint_path (it may be `path` itself) and
+    checkpoint_every the resumed run writes checkpoints in turn.
+    Raises cavesim.InputError when the file is missing, cut or damaged, or no longer matches its
+    scenario.
+    """
+    impl = _cavesim._resume(str(path), **_options(threads, progress, cancel, mesh, analysis, stage1_state,
+                                                  checkpoint_path, checkpoint_every))
+    return Result(impl)
+
+
+def _options(threads, progress, cancel, mesh, analysis, stage1_state, checkpoint_path, checkpoint_every):
+    return dict(threads=int(threads), progress=progress, cancel=cancel if cancel is not None else CancelToken(),
+                mesh=bool(mesh), analysis=bool(analysis),
+                stage1_state="" if stage1_state is None else str(stage1_state),
+                checkpoint_path="" if checkpoint_path is None else str(checkpoint_path),
+                checkpoint_every=int(checkpoint_every))
+
+
+__all__ = ["Scenario", "Result", "Mesh", "Skeleton", "CancelToken", "run", "resume", "Error", "InputError", "RuntimeError",
            "InternalError", "Cancelled", "__version__"] + [n for n in dir() if n.startswith("FLAG_")]

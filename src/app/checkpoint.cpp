@@ -9,6 +9,7 @@
 #include "core/bytes.h"
 #include "core/check.h"
 #include "core/fnv.h"
+#include "sim/scenario_io.h"
 
 namespace fs = std::filesystem;
 
@@ -16,7 +17,10 @@ namespace cavesim::app {
 namespace {
 
 constexpr char kMagic[16] = {'C', 'A', 'V', 'E', 'S', 'I', 'M', '-', 'C', 'H', 'E', 'C', 'K', 'P', 'T', '\n'};
-constexpr std::uint32_t kVersion = 1;
+/// Version 2 added the records of base-level phases to the stage-2 state; version 1 files (runs
+/// without phases or a water table) are still read: their stage-2 state says which it is.
+constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kChunk = std::size_t(4) << 20;
 constexpr int kMaxFrameSide = 1 << 15;
 
@@ -65,6 +69,13 @@ fs::path checkpointDir(const fs::path& target) {
     std::string name = t.filename().string();
     if (name.size() > 200) name = name.substr(0, 200);
     return t.parent_path() / ("." + name + ".checkpoint");
+}
+
+std::uint64_t scenarioHash(const Scenario& s) {
+    const std::string text = scenarioToToml(s);
+    Fnv1a64 h;
+    h.add(text.data(), text.size());
+    return h.value();
 }
 
 std::uint64_t domainFingerprint(const Domain& d) {
@@ -146,9 +157,9 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& shown) 
     hf.add(bytes.data(), bytes.size() - 8);
     if (hf.value() != recorded) file.fail("a file checksum that does not match its bytes: cut or changed");
     const std::uint32_t version = file.get<std::uint32_t>("the version");
-    if (version != kVersion)
-        file.fail("checkpoint format version " + std::to_string(version) + "; this program reads version " +
-                  std::to_string(kVersion));
+    if (version < kOldestVersion || version > kVersion)
+        file.fail("checkpoint format version " + std::to_string(version) + "; this program reads versions " +
+                  std::to_string(kOldestVersion) + " to " + std::to_string(kVersion));
     const std::uint64_t size = file.get<std::uint64_t>("the payload size");
     const std::uint32_t chunks = file.get<std::uint32_t>("the chunk count");
     if (size > (std::uint64_t(1) << 40) || chunks != (size + kChunk - 1) / kChunk) file.fail("inconsistent sizes");

@@ -16,7 +16,8 @@
 /// again (deterministic, and cheap beside stage 2), which also rewrites `stage1.vdb` and
 /// `images/zones.png`, and refuses to go on unless the domain matches the fingerprint.
 ///
-/// **Layout**, little-endian: the magic "CAVESIM-CHECKPT\n" (16 bytes), u32 version (1), u64 bytes
+/// **Layout**, little-endian: the magic "CAVESIM-CHECKPT\n" (16 bytes), u32 version (2; 1 is still
+/// read: the same layout, its stage-2 state without phase records), u64 bytes
 /// of the payload, u32 number of chunks; per chunk: u32 payload bytes in it (at most 4 MiB), u32
 /// compressed bytes, then that many bytes of zlib data; u64 FNV-1a of the payload; u64 FNV-1a of every
 /// byte before. The payload is a ByteWriter stream (core/bytes.h), checked as it is read.
@@ -31,6 +32,7 @@
 #include "render/image.h"
 #include "sim/domain.h"
 #include "sim/options.h"
+#include "sim/scenario.h"
 
 namespace cavesim::app {
 
@@ -66,6 +68,10 @@ std::string encodeCheckpoint(const Checkpoint& checkpoint);
 /// @throw InputError naming `shown` and what is wrong for any content that is not a complete
 ///        checkpoint this program wrote (never crashes or reads out of bounds, whatever the bytes)
 Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& shown);
+
+/// FNV-1a of the effective scenario (scenarioToToml of `scenario`, its [site] loaded): a resumed run
+/// must read the same scenario.
+std::uint64_t scenarioHash(const Scenario& scenario);
 
 /// FNV-1a of the domain grids stage 1 and the interim step settle (porosity, porosity0, flags,
 /// zone): a resumed run's stage 1 must give the same.

@@ -61,6 +61,18 @@ RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbac
 ///        its scenario (nothing is written then)
 RunOutcome resumeRun(const ResumeRequest& request, const PipelineOptions& callbacks);
 
+/// The scenario a checkpoint (app/checkpoint.h) was made from, as its run read it: its scenario
+/// text parsed under its path (the built-in default when the path is empty), the overrides it
+/// records (seed, mesh style, formats, normals) applied, validated; its [site]'s files not read yet
+/// (site::loadSite). `cavesim resume` and the library's `api::resume` start from it.
+/// @throw InputError when the text no longer parses or an override is not allowed
+Scenario checkpointScenario(const Checkpoint& checkpoint);
+
+/// Checks that `scenario` (checkpointScenario, its site loaded) is the scenario `checkpoint` was
+/// made from (its hash) and that its stage 2 goes past the checkpoint's iteration.
+/// @throw InputError naming `shown` and what does not match
+void checkResumable(const Checkpoint& checkpoint, const Scenario& scenario, const std::string& shown);
+
 /// `cavesim validate`: the one-line summary of a valid scenario file.
 /// @throw InputError when the file is not a valid scenario
 std::string validateSummary(const std::string& path);

@@ -1,4 +1,5 @@
 // `cavesim run` and `cavesim validate`: from a scenario file to a complete output directory.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -51,8 +52,9 @@ std::uint64_t parseSeed(const std::string& text) {
 
 namespace {
 
-/// requestedScenario, with the scenario file's `text` read earlier when it is given.
-Scenario scenarioFor(const RunRequest& request, const std::string* text) {
+/// The scenario a run request asks for before its [site]'s files are read: parsed (the scenario
+/// file's `text` read earlier when it is given), its overrides applied, validated.
+Scenario unloadedScenario(const RunRequest& request, const std::string* text) {
     Scenario s = request.scenarioPath ? (text ? parseScenarioString(*text, *request.scenarioPath)
                                               : parseScenarioFile(*request.scenarioPath))
                                       : defaultScenario();
@@ -61,15 +63,27 @@ Scenario scenarioFor(const RunRequest& request, const std::string* text) {
     if (request.formats) s.output.formats = formats::formatList(formats::parseFormatSet(*request.formats));
     if (request.meshNormals) s.output.meshNormals = *request.meshNormals;
     validateScenario(s);
+    return s;
+}
+
+/// requestedScenario, with the scenario file's `text` read earlier when it is given.
+Scenario scenarioFor(const RunRequest& request, const std::string* text) {
+    Scenario s = unloadedScenario(request, text);
     site::loadSite(s);
     return s;
 }
 
-std::uint64_t scenarioHash(const Scenario& s) {
-    const std::string text = scenarioToToml(s);
-    Fnv1a64 h;
-    h.add(text.data(), text.size());
-    return h.value();
+/// The request a checkpoint records (its scenario, seed and overrides; no folder, threads 0).
+RunRequest checkpointRequest(const Checkpoint& c) {
+    RunRequest request;
+    if (!c.scenarioPath.empty()) request.scenarioPath = c.scenarioPath;
+    request.seed = c.seed;
+    request.force = c.force;
+    request.meshStyle = c.meshStyle;
+    request.formats = c.formats;
+    request.meshNormals = c.meshNormals;
+    request.checkpointEvery = c.every;
+    return request;
 }
 
 /// A run of `s` as `request` asks, continuing from `resume` when it is given.
@@ -77,11 +91,6 @@ RunOutcome execute(const RunRequest& request, const Scenario& s, const PipelineO
                    const Checkpoint* resume, const std::string& resumeName) {
     const int threads = request.threads > 0 ? request.threads : int(tbb::info::default_concurrency());
     checkMemory(estimateRun(s, threads), readMemoryLimits());  // before any work, the output folder included
-    if (request.checkpointEvery > 0 &&
-        (!s.stage2.phases.empty() || s.stage2.hydrology.waterTable >= 0 || s.stage2.hydrology.fromSite))
-        throw InputError(s.path +
-                         ": --checkpoint-every: checkpoints are not available yet for runs with a water "
-                         "table ([hydrology]) or [[phase]] entries; run without --checkpoint-every");
     const fs::path out = request.outDir.empty() ? fs::path("out") / s.name : fs::path(request.outDir);
     OutputDir dir(out, request.force);  // refuses a non-empty directory before any work
 
@@ -134,6 +143,25 @@ RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbac
     return execute(request, requestedScenario(request), callbacks, nullptr, std::string());
 }
 
+Scenario checkpointScenario(const Checkpoint& c) {
+    return unloadedScenario(checkpointRequest(c), c.scenarioPath.empty() ? nullptr : &c.scenarioText);
+}
+
+void checkResumable(const Checkpoint& c, const Scenario& s, const std::string& shown) {
+    if (scenarioHash(s) != c.scenarioHash)
+        throw InputError(shown +
+                         ": the scenario it holds no longer reads as the run read it (another version of cavesim?); "
+                         "start the run again");
+    int iterations = s.stage2.iterations;  // of stage 2: the phases' when there are phases
+    if (!s.stage2.phases.empty()) {
+        iterations = 0;
+        for (const Stage2Phase& ph : s.stage2.phases) iterations += ph.iterations;
+    }
+    if (!s.stage2.enabled || c.iteration >= iterations)
+        throw InputError(shown + ": a checkpoint after iteration " + std::to_string(c.iteration) +
+                         ", which its scenario's stage 2 does not reach");
+}
+
 RunOutcome resumeRun(const ResumeRequest& r, const PipelineOptions& callbacks) {
     const fs::path file = checkpointDir(r.dir) / kCheckpointFile;
     std::error_code ec;
@@ -142,24 +170,23 @@ RunOutcome resumeRun(const ResumeRequest& r, const PipelineOptions& callbacks) {
                          " is missing; `cavesim run --checkpoint-every N` writes one)");
     const std::string shown = file.string();
     const Checkpoint c = decodeCheckpoint(readFileBytes(file), shown);
-    RunRequest request;
-    if (!c.scenarioPath.empty()) request.scenarioPath = c.scenarioPath;
+    RunRequest request = checkpointRequest(c);
     request.outDir = r.dir;
     request.threads = r.threads;
-    request.seed = c.seed;
     request.force = c.force || r.force;
-    request.meshStyle = c.meshStyle;
-    request.formats = c.formats;
-    request.meshNormals = c.meshNormals;
-    request.checkpointEvery = c.every;
     const Scenario s = scenarioFor(request, c.scenarioPath.empty() ? nullptr : &c.scenarioText);
-    if (scenarioHash(s) != c.scenarioHash)
-        throw InputError(shown +
-                         ": the scenario it holds no longer reads as the run read it (another version of cavesim?); "
-                         "rerun `cavesim run`");
-    if (!s.stage2.enabled || c.iteration >= s.stage2.iterations)
-        throw InputError(shown + ": a checkpoint after iteration " + std::to_string(c.iteration) +
-                         ", which its scenario's stage 2 does not reach");
+    checkResumable(c, s, shown);
+    // The pictures of the snapshots before the checkpoint come from it: a checkpoint without them
+    // (the library's, which draws none) cannot finish an output folder.
+    if (s.output.images) {
+        const auto taken = std::count_if(s.stage2.snapshots.begin(), s.stage2.snapshots.end(),
+                                         [&](int it) { return it <= c.iteration; });
+        if (std::size_t(taken) != c.frames.size())
+            throw InputError(shown + ": it holds " + std::to_string(c.frames.size()) + " of the " +
+                             std::to_string(taken) +
+                             " stage-2 pictures taken before it (a checkpoint of a library run, which draws none?); "
+                             "resume it with the library (api::resume), or start the run again");
+    }
     if (callbacks.log)
         callbacks.log("resuming from " + shown + ", after stage-2 iteration " + std::to_string(c.iteration));
     return execute(request, s, callbacks, &c, shown);

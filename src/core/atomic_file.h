@@ -14,6 +14,8 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -36,13 +38,15 @@ inline void syncDirectory(const std::filesystem::path& dir) {
         throw RuntimeError("cannot sync folder " + d.string() + ": " + std::strerror(err));
 }
 
-/// Writes `text` to `path` through a new temporary file beside it, `fsync` and a rename; then the
-/// folder is synced. The temporary name is unique to this process and call and is created
-/// exclusively (O_CREAT | O_EXCL | O_NOFOLLOW), so a file, directory or symlink already lying there
-/// is never written through or clobbered; a symlink at `path` itself is replaced, not followed.
+/// Writes the concatenation of `pieces` to `path` through a new temporary file beside it, `fsync`
+/// and a rename; then the folder is synced. The pieces are written where they lie (no copy joins
+/// them), so a large file made of a header and grids needs no second copy of the grids in memory.
+/// The temporary name is unique to this process and call and is created exclusively (O_CREAT |
+/// O_EXCL | O_NOFOLLOW), so a file, directory or symlink already lying there is never written
+/// through or clobbered; a symlink at `path` itself is replaced, not followed.
 /// @throw RuntimeError "cannot write PATH: REASON" if any step fails (the temporary is removed and
 ///        `path` is left as it was)
-inline void writeFileAtomic(const std::string& path, const std::string& text) {
+inline void writeFileAtomic(const std::string& path, const std::vector<std::string_view>& pieces) {
     namespace fs = std::filesystem;
     static std::atomic<unsigned> counter{0};
     const fs::path target(path);
@@ -57,16 +61,22 @@ inline void writeFileAtomic(const std::string& path, const std::string& text) {
                                std::strerror(errno));
     }
     std::string why;  // empty while every step succeeds
-    std::size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {  // 0 cannot happen for a regular file; report it rather than loop
-            why = n < 0 ? std::strerror(errno) : "no bytes written";
-            why += " after " + std::to_string(done) + " of " + std::to_string(text.size()) + " bytes";
-            break;
+    std::size_t total = 0, done = 0;
+    for (const std::string_view& piece : pieces) total += piece.size();
+    for (const std::string_view& piece : pieces) {
+        std::size_t at = 0;
+        while (why.empty() && at < piece.size()) {
+            const ssize_t n = ::write(fd, piece.data() + at, piece.size() - at);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {  // 0 cannot happen for a regular file; report it rather than loop
+                why = n < 0 ? std::strerror(errno) : "no bytes written";
+                why += " after " + std::to_string(done) + " of " + std::to_string(total) + " bytes";
+                break;
+            }
+            at += std::size_t(n);
+            done += std::size_t(n);
         }
-        done += std::size_t(n);
+        if (!why.empty()) break;
     }
     if (why.empty() && ::fsync(fd) != 0) why = std::string("cannot sync: ") + std::strerror(errno);
     if (::close(fd) != 0 && why.empty()) why = std::strerror(errno);
@@ -84,6 +94,11 @@ inline void writeFileAtomic(const std::string& path, const std::string& text) {
     } catch (const RuntimeError& e) {
         throw RuntimeError("cannot write " + path + ": " + e.what());
     }
+}
+
+/// Writes `text` to `path` as `writeFileAtomic(path, {text})` does.
+inline void writeFileAtomic(const std::string& path, const std::string& text) {
+    writeFileAtomic(path, std::vector<std::string_view>{std::string_view(text)});
 }
 
 /// A whole file's bytes.

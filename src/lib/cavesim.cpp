@@ -4,14 +4,18 @@
 #include "cavesim/cavesim.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <utility>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "app/checkpoint.h"
+#include "app/commands.h"
 #include "app/pipeline.h"
 #include "app/report.h"
 #include "app/state.h"
+#include "core/atomic_file.h"
 #include "core/timer.h"
 #include "mesh/cave_mesh.h"
 #include "morpho/analysis.h"
@@ -470,8 +474,33 @@ void Result::writeState(const std::string& path) const {
     app::writeState(path, impl_->domain, impl_->scenario.impl().scenario, app::StateMoment::kFinal);
 }
 
-Result run(const Scenario& scenario, const RunOptions& options) {
-    cavesim::Scenario withSite = scenario.impl().scenario;
+namespace {
+
+/// The checks of `RunOptions`' checkpoint fields, before any work.
+/// @throw InputError for a negative interval, an interval without a path or a path in no folder
+void checkCheckpointOptions(const RunOptions& o) {
+    if (o.checkpointEvery < 0)
+        throw InputError("checkpoint interval " + std::to_string(o.checkpointEvery) +
+                         ": must be 0 (no checkpoints) or a number of stage-2 iterations");
+    if (o.checkpointEvery == 0) return;
+    if (o.checkpointPath.empty())
+        throw InputError("checkpoints every " + std::to_string(o.checkpointEvery) +
+                         " iteration(s) need a checkpoint file path");
+    namespace fs = std::filesystem;
+    const fs::path parent = fs::path(o.checkpointPath).parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+        throw InputError(o.checkpointPath + ": cannot write a checkpoint there: " + parent.string() +
+                         " is not a folder");
+}
+
+/// `run`, or with `resume` (read from the file `shown`, checked against the scenario by
+/// app::checkResumable) its continuation.
+std::unique_ptr<Result::Impl> runWith(const Scenario& scenario, const RunOptions& options,
+                                      const app::Checkpoint* resume, const std::string& shown) {
+    checkCheckpointOptions(options);
+    const cavesim::Scenario& base = scenario.impl().scenario;
+    cavesim::Scenario withSite = base;
     site::loadSite(withSite);  // a [site]'s files: read, checked and sampled onto the block
     const cavesim::Scenario& s = withSite;
     const int threads = options.threads > 0 ? options.threads : int(tbb::info::default_concurrency());
@@ -499,6 +528,39 @@ Result run(const Scenario& scenario, const RunOptions& options) {
         hooks.afterStage1 = [&](const Domain& d, const app::RunRecord&) {
             app::writeState(options.stage1StatePath, d, s, app::StateMoment::kAfterStage1);
         };
+    // Checkpoints in the command's format (app/checkpoint.h): the effective scenario as its text
+    // under the scenario's name, so that app::checkpointScenario reads it back; no pictures.
+    const bool checkpointing = options.checkpointEvery > 0;
+    app::Checkpoint made;
+    if (checkpointing) {
+        made.scenarioPath = base.path.empty() ? std::string("<library>") : base.path;
+        made.scenarioText = scenarioToToml(base);
+        made.every = options.checkpointEvery;
+        made.scenarioHash = app::scenarioHash(s);
+    }
+    std::uint64_t domainHash = 0;  // the domain at the start of stage 2
+    hooks.beforeStage2 = [&](const Domain& d, app::RunRecord&) {
+        if (!checkpointing && !resume) return;
+        domainHash = app::domainFingerprint(d);
+        if (resume && domainHash != resume->domainHash)
+            throw InputError(shown +
+                             ": the domain at the start of stage 2 is not the one the checkpoint was made from (a "
+                             "file the scenario reads changed, or another version of cavesim); start the run again");
+    };
+    if (resume) {
+        hooks.checkpoints.resume = &resume->stage2;
+        hooks.checkpoints.resumeName = shown;
+    }
+    if (checkpointing) {
+        hooks.checkpoints.every = options.checkpointEvery;
+        hooks.checkpoints.save = [&](int it, const std::string& state) {
+            app::Checkpoint c = made;
+            c.domainHash = domainHash;
+            c.iteration = it;
+            c.stage2 = state;
+            writeFileAtomic(options.checkpointPath, app::encodeCheckpoint(c));  // RuntimeError when it fails
+        };
+    }
     app::runStages(dom, s, rng, rec, progress, hooks);
     if (rec.stage1) {
         report.zones = rec.stage1->zones;
@@ -576,7 +638,27 @@ Result run(const Scenario& scenario, const RunOptions& options) {
     out->porosity = app::recordedPorosity(dom, s, app::StateMoment::kFinal);
     out->caveMask = cave.mask;
     out->domain = std::move(dom);
-    return Result(std::move(out));
+    return out;
+}
+
+}  // namespace
+
+Result run(const Scenario& scenario, const RunOptions& options) {
+    return Result(runWith(scenario, options, nullptr, std::string()));
+}
+
+Result resume(const std::string& checkpointPath, const RunOptions& options) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(checkpointPath, ec))
+        throw InputError(checkpointPath + ": no checkpoint to resume from (no such file)");
+    const app::Checkpoint c = app::decodeCheckpoint(readFileBytes(checkpointPath), checkpointPath);
+    const cavesim::Scenario read = app::checkpointScenario(c);
+    cavesim::Scenario withSite = read;
+    site::loadSite(withSite);
+    app::checkResumable(c, withSite, checkpointPath);
+    // The scenario as a public Scenario: its effective text (overrides included) under its name.
+    const Scenario scenario = Scenario::fromTomlString(scenarioToToml(read), read.path);
+    return Result(runWith(scenario, options, &c, checkpointPath));
 }
 
 }  // namespace cavesim::api

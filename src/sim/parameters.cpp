@@ -552,8 +552,8 @@ std::vector<ParamSection> makeRegistry() {
                 .rangeShown("[] or 4 column indices inside the top face, x0 ≤ x1, y0 ≤ y1"),
             integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many"),
             integer("radius", &RechargeSpec::radius, rng(0, 64),
-                    "sinkholes: each is a (2r+1)² × (r+1) box under the top face (2r+1 at most the area's sides, r+1 "
-                    "at most nz), at least 2r+1 apart")
+                    "sinkholes: each is a (2r+1)² × (r+1) box under the land surface (2r+1 at most the area's sides, "
+                    "r+1 at most nz), at least 2r+1 apart")
                 .unitIs("voxels"),
             real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
                 .unitIs("voxels"),
@@ -561,17 +561,20 @@ std::vector<ParamSection> makeRegistry() {
                  "sinkholes: each one's `[[source]] pressure`; diffuse, stream: the total, shared equally")
                 .unitIs("relative"),
             real3List("points", &RechargeSpec::points, rng(-1, 1, "[]", true),
-                      "stream: the polyline, inside the block (z = nz − 1 is the land surface)")
+                      "stream: the polyline, inside the block (z = nz − 1 is the top face; under a `[site] dem` an "
+                      "input above the land is lowered onto it)")
                 .unitIs("voxels")
                 .items(0, 1024)
                 .shape("an array of points [x, y, z]")
                 .rangeShown("stream: 2–1024 points inside the block; otherwise `[]`"),
         }));
     recharge.prose =
-        "Recharge expands into ordinary sources in the block's top layer (the land surface), after the\n"
-        "`[[source]]` entries and before a site's sinkholes; everything downstream sees sources. Together with\n"
-        "the `[[source]]` entries at most 256 sources. Recharge outside the top face, sinkholes that do not\n"
-        "fit in their area, or an input on a sink is an error (docs/geology.md).";
+        "Recharge expands into ordinary sources on the land surface — the block's top layer, or with a\n"
+        "`[site] dem` the highest rock voxel of each column — after the `[[source]]` entries and before a\n"
+        "site's sinkholes; everything downstream sees sources. Together with the `[[source]]` entries and a\n"
+        "site's sinkholes at most 256 sources. Recharge outside the top face's columns, on a column the DEM\n"
+        "leaves all air, sinkholes that do not fit in their area, or an input on a sink or a spring is an\n"
+        "error (docs/geology.md).";
     recharge.setLine = [](void* r, int line) { static_cast<RechargeSpec*>(r)->line = line; };
 
     const std::vector<ParamChoice> faces{{"-x", int(GF::kMinusX)}, {"+x", int(GF::kPlusX)},  {"-y", int(GF::kMinusY)},

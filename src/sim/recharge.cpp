@@ -41,6 +41,10 @@ std::string pointsText(const std::vector<Vec3d>& v) {
     return out + (v.size() > 3 ? ", ...]" : "]");
 }
 
+const char* kindText(RechargeKind k) {
+    return k == RechargeKind::kSinkholes ? "sinkholes" : k == RechargeKind::kDiffuse ? "diffuse" : "stream";
+}
+
 /// A uniform integer in [0, n) from one draw (the high half of draw × n).
 std::size_t uniformIndex(Rng& rng, std::size_t n) {
     return std::size_t((static_cast<unsigned __int128>(rng()) * n) >> 64);
@@ -67,11 +71,28 @@ SourceSpec oneVoxel(int i, int j, int k, double pressure, int line) {
     return src;
 }
 
+/// The highest rock voxel of column (i, j): the top layer, or with a `[site] dem` the highest voxel
+/// whose centre is not above the land surface (the rule that makes the voxels above it air,
+/// domain.cpp). A column whose every voxel is air is an error naming the entry.
+int landTop(const Scenario& s, const RechargeSpec& r, int i, int j) {
+    const int nz = s.size[2];
+    if (!s.siteData || s.siteData->landSurface.empty()) return nz - 1;
+    const double land = s.siteData->landSurface[std::size_t(i) + std::size_t(s.size[0]) * std::size_t(j)];
+    const double z0 = s.site.origin[2], h = s.voxelSize;
+    int k = nz - 1;
+    while (k >= 0 && z0 + (k + 0.5) * h > land) --k;
+    if (k < 0)
+        fail(s, r.line, &r.kind, "\"" + std::string(kindText(r.kind)) + "\"",
+             "an input falls on column x " + std::to_string(i) + ", y " + std::to_string(j) +
+                 ", where the land surface ([site] dem, " + shortestText(land) +
+                 " m) lies below every voxel centre: the column is air");
+    return k;
+}
+
 /// The sources of entry `index`; an empty result from sinkholes that do not fit.
 std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::size_t index, bool& fits) {
     fits = true;
     Rng rng(familySeed(s.seed ^ 0x5245434841524745ull /* "RECHARGE" */, index));
-    const int top = s.size[2] - 1;
     const Area a = areaOf(s, r);
     std::vector<SourceSpec> out;
     switch (r.kind) {
@@ -94,8 +115,15 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
             }
             for (const auto& t : taken) {
                 SourceSpec src;
-                src.box.lo = {std::max(0, t[0] - r.radius), std::max(0, t[1] - r.radius), std::max(0, top - r.radius)};
-                src.box.hi = {std::min(s.size[0] - 1, t[0] + r.radius), std::min(s.size[1] - 1, t[1] + r.radius), top};
+                const int x0 = std::max(0, t[0] - r.radius), y0 = std::max(0, t[1] - r.radius);
+                const int x1 = std::min(s.size[0] - 1, t[0] + r.radius), y1 = std::min(s.size[1] - 1, t[1] + r.radius);
+                // Under uneven land the box hangs from the lowest surface voxel of its columns, so
+                // every voxel of it is rock.
+                int top = s.size[2] - 1;
+                for (int j = y0; j <= y1; ++j)
+                    for (int i = x0; i <= x1; ++i) top = std::min(top, landTop(s, r, i, j));
+                src.box.lo = {x0, y0, std::max(0, top - r.radius)};
+                src.box.hi = {x1, y1, top};
                 src.pressure = r.pressure;
                 src.line = r.line;
                 out.push_back(src);
@@ -112,7 +140,7 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
                     const int j0 = edge(v, h), j1 = std::max(j0 + 1, edge(v + 1, h));
                     const int i = a.x0 + i0 + int(uniformIndex(rng, std::size_t(i1 - i0)));
                     const int j = a.y0 + j0 + int(uniformIndex(rng, std::size_t(j1 - j0)));
-                    out.push_back(oneVoxel(i, j, top, 0.0, r.line));
+                    out.push_back(oneVoxel(i, j, landTop(s, r, i, j), 0.0, r.line));
                 }
             break;
         }
@@ -131,9 +159,10 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
                 const Vec3d& B = r.points[seg + 1];
                 const double len = at[seg + 1] - at[seg];
                 const double f = len > 0 ? std::clamp((t - at[seg]) / len, 0.0, 1.0) : 0.0;
-                const std::array<int, 3> v{int(std::lround(A[0] + f * (B[0] - A[0]))),
-                                           int(std::lround(A[1] + f * (B[1] - A[1]))),
-                                           int(std::lround(A[2] + f * (B[2] - A[2])))};
+                std::array<int, 3> v{int(std::lround(A[0] + f * (B[0] - A[0]))),
+                                     int(std::lround(A[1] + f * (B[1] - A[1]))),
+                                     int(std::lround(A[2] + f * (B[2] - A[2])))};
+                v[2] = std::min(v[2], landTop(s, r, v[0], v[1]));  // sinks into the rock under the land
                 const bool repeat =
                     std::any_of(out.begin(), out.end(), [&](const SourceSpec& q) { return q.box.lo == v; });
                 if (!repeat) out.push_back(oneVoxel(v[0], v[1], v[2], 0.0, r.line));
@@ -164,16 +193,13 @@ std::vector<SourceSpec> rechargeSources(const Scenario& s, std::vector<std::size
 }
 
 void validateRecharge(const Scenario& s) {
-    std::size_t total = s.sources.size();
+    std::size_t total = s.sources.size() + (s.siteData ? s.siteData->sources.size() : 0);
     const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
-    const std::string face = "the land surface is the block's top face: columns x 0.." + std::to_string(nx - 1) +
-                             ", y 0.." + std::to_string(ny - 1);
+    const std::string face = std::string(s.site.dem.empty() ? "the land surface is the block's top face"
+                                                            : "the land surface is the [site] dem over the block") +
+                             ": columns x 0.." + std::to_string(nx - 1) + ", y 0.." + std::to_string(ny - 1);
     for (std::size_t e = 0; e < s.recharge.size(); ++e) {
         const RechargeSpec& r = s.recharge[e];
-        if (!s.site.dem.empty())
-            fail(s, r.line, &r.kind, "\"" + kindName(r.kind) + "\"",
-                 "[[recharge]] feeds the block's top face; with a [site] dem the land surface is the DEM: give the "
-                 "inputs as [site] sinkholes");
         const bool stream = r.kind == RechargeKind::kStream;
         if (!r.area.empty()) {
             if (stream)
@@ -253,6 +279,15 @@ void validateRecharge(const Scenario& s) {
                              std::to_string(src.box.lo[2]) + "] overlaps [[sink]] entry " + std::to_string(j + 1) +
                              " (line " + std::to_string(s.sinks[j].line) + "): a voxel cannot be both source and sink");
             }
+        if (s.siteData)
+            for (const SourceSpec& src : part)
+                for (std::size_t j = 0; j < s.siteData->sinks.size(); ++j)
+                    if (boxesOverlap(src.box, s.siteData->sinks[j].box))
+                        fail(s, r.line, &r.kind, "(entry " + std::to_string(e + 1) + ")",
+                             "an input at [" + std::to_string(src.box.lo[0]) + ", " + std::to_string(src.box.lo[1]) +
+                                 ", " + std::to_string(src.box.lo[2]) + "] falls on the voxel of spring '" +
+                                 s.siteData->sinkNames[j] +
+                                 "' ([site] springs): a voxel cannot be both source and sink");
     }
 }
 

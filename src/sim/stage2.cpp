@@ -992,15 +992,48 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         gravity = gravity || ph.waterTable >= 0;
     }
     const bool phased = !g.phases.empty() || gravity;  // else the paper's model, unchanged
-    if (phased && (checkpoints.resume || checkpoints.every > 0))
-        throw InputError(
-            "checkpoints are not available yet for runs with a water table ([hydrology]) or [[phase]] "
-            "entries: run without --checkpoint-every");
 
+    // Sinks inactive in a phase neither drain nor hold the pressure at 0: their voxels lose the
+    // sink flag and are marked inert (never eroded) until the end of the run. Their flags as given
+    // are those of the prepared domain (startStage2 leaves sinks and sources alone), so a resumed
+    // run takes them before the stored grids replace the domain's.
+    std::vector<std::uint8_t> sinkFlags;  // the flags of the sinks' voxels as given, in voxel order
+    if (phased)
+        for (const auto& sink : dom.sinkVoxels)
+            for (std::size_t v : sink) sinkFlags.push_back(dom.flags[v]);
+
+    // The phase a resumed run continues: the one holding the iteration its state was saved after
+    // (the phases before it are done and recorded in the state).
+    std::size_t firstPhase = 0;
     if (checkpoints.resume) {
         decodeCarry(*checkpoints.resume, checkpoints.resumeName, c, dom);
+        const auto foreign = [&] {
+            return InputError(checkpoints.resumeName + ": a stage-2 state that does not belong to this scenario");
+        };
         if (c.iteration > totalIterations || res.sourceConnectedIteration.size() != dom.sourceVoxels.size())
-            throw InputError(checkpoints.resumeName + ": a stage-2 state that does not belong to this scenario");
+            throw foreign();
+        int start = 0;  // iterations before phase firstPhase
+        while (start + plan[firstPhase].iterations < c.iteration) start += plan[firstPhase++].iterations;
+        // Each phase record as this scenario's phases make it (what a phase sets up is derived
+        // again below from these; a state of other phases would not continue bit for bit).
+        const auto matches = [&](const Stage2PhaseRecord& r, std::size_t index, int first) {
+            const PhasePlan& ph = plan[index];
+            const bool fromSite = siteTable && ph.waterTable < 0;
+            return r.firstIteration == first + 1 && r.waterTable == (ph.waterTable >= 0 ? ph.waterTable : -1.0) &&
+                   r.fromSite == fromSite && r.sinks == activeList(ph.sinks, dom.sinkVoxels.size()) &&
+                   r.sources == activeList(ph.sources, dom.sourceVoxels.size());
+        };
+        if (!phased) {
+            if (!res.phases.empty() || c.phase.firstIteration != 0) throw foreign();
+        } else {
+            if (res.phases.size() != firstPhase || !matches(c.phase, firstPhase, start)) throw foreign();
+            int first = 0;
+            for (std::size_t k = 0; k < firstPhase; ++k) {
+                if (!matches(res.phases[k], k, first) || res.phases[k].iterations != plan[k].iterations)
+                    throw foreign();
+                first += plan[k].iterations;
+            }
+        }
         secondsBefore = res.seconds;
     } else {
         res.pressureCap = stage2PressureCap(dom, g);
@@ -1023,12 +1056,6 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         }
     };
 
-    // Sinks inactive in a phase neither drain nor hold the pressure at 0: their voxels lose the
-    // sink flag and are marked inert (never eroded) until the end of the run.
-    std::vector<std::uint8_t> sinkFlags;  // the flags of the sinks' voxels as given, in voxel order
-    if (phased)
-        for (const auto& sink : dom.sinkVoxels)
-            for (std::size_t v : sink) sinkFlags.push_back(dom.flags[v]);
     const auto restoreSinks = [&] {
         std::size_t at = 0;
         for (const auto& sink : dom.sinkVoxels)
@@ -1038,23 +1065,30 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     std::vector<double> table;
     if (gravity) potential = Grid3<double>(d, 0.0);
 
-    int it = c.iteration;  // 0, or the iteration a checkpoint was taken after (one phase then)
+    int it = c.iteration;  // 0, or the iteration a checkpoint was taken after
     int phaseEnd = 0;
+    Stage2PhaseRecord& prec = c.phase;
     for (std::size_t phaseIndex = 0; phaseIndex < plan.size(); ++phaseIndex) {
         const PhasePlan& ph = plan[phaseIndex];
         phaseEnd += ph.iterations;
+        if (phaseIndex < firstPhase) continue;  // done before the checkpoint
+        // A resumed run continues its first phase: the state holds what the phase's start set up
+        // (flags of the sinks, refill levels, rates, pressure, reach), all but the table below.
+        const bool continued = checkpoints.resume && phaseIndex == firstPhase;
         const bool fromSite = siteTable && ph.waterTable < 0;  // this phase's table is the site's surface
         const bool hasTable = ph.waterTable >= 0 || fromSite;
-        Stage2PhaseRecord prec;
-        prec.firstIteration = it + 1;
-        prec.waterTable = ph.waterTable >= 0 ? ph.waterTable : -1.0;
-        prec.fromSite = fromSite;
-        prec.sinks = activeList(ph.sinks, dom.sinkVoxels.size());
-        prec.sources = activeList(ph.sources, dom.sourceVoxels.size());
-        prec.channelVoxelsStart = st.channelVoxels;
+        if (phased && !continued) {  // without phases the record stays empty
+            prec = Stage2PhaseRecord{};
+            prec.firstIteration = it + 1;
+            prec.waterTable = ph.waterTable >= 0 ? ph.waterTable : -1.0;
+            prec.fromSite = fromSite;
+            prec.sinks = activeList(ph.sinks, dom.sinkVoxels.size());
+            prec.sources = activeList(ph.sources, dom.sourceVoxels.size());
+            prec.channelVoxelsStart = st.channelVoxels;
+        }
         if (phased) {
             // The phase's terminals, pressure and connectivity.
-            if (ph.given) {
+            if (ph.given && !continued) {
                 std::size_t at = 0;
                 for (std::size_t si = 0; si < dom.sinkVoxels.size(); ++si)
                     for (std::size_t v : dom.sinkVoxels[si]) {
@@ -1090,10 +1124,16 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                     for (int j = 0; j < d.ny; ++j)
                         for (int i = 0; i < d.nx; ++i)
                             if (isVadose(d, table, i, j, k)) st.vadose[d.index(i, j, k)] = 1;
-                rate = rateField(dom, g, st.vadose);
-                pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap, fastmarch::Stencil::kAvalanche26);
+                if (!continued) {
+                    rate = rateField(dom, g, st.vadose);
+                    pressure.solve(d, rate, sinkSeeds(dom, ph.sinks), res.pressureCap,
+                                   fastmarch::Stencil::kAvalanche26);
+                    std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
+                }
                 res.pressureSeconds += tp.seconds();
-                std::fill(st.pressureTop.begin(), st.pressureTop.end(), -1.0);
+                // Every iteration writes the potential of the active tiles before any step reads it,
+                // and no step reads it elsewhere: the whole grid from the current pressure is as
+                // good as the phase's start for a resumed run.
                 gravityPotential(pressure.value(), table, res.pressureCap, g, st, true, potential);
             }
         }
@@ -1140,9 +1180,11 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
             rec.balanceError = std::abs((stored - storedBefore) - (rec.injected - rec.drained));
             res.totalInjected += rec.injected;
             res.totalDrained += rec.drained;
-            prec.injected += rec.injected;
-            prec.drained += rec.drained;
-            prec.eroded += rec.eroded;
+            if (phased) {
+                prec.injected += rec.injected;
+                prec.drained += rec.drained;
+                prec.eroded += rec.eroded;
+            }
             const std::vector<bool> conn = extendReach(dom, st, conducting);
             for (std::size_t si = 0; si < conn.size(); ++si) {
                 if (conn[si]) {
@@ -1151,7 +1193,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
                 }
             }
             if (rec.sourcesConnected > 0 && !res.breakthroughIteration) res.breakthroughIteration = it;
-            if (rec.sourcesConnected > 0 && !prec.breakthroughIteration) prec.breakthroughIteration = it;
+            if (phased && rec.sourcesConnected > 0 && !prec.breakthroughIteration) prec.breakthroughIteration = it;
             res.history.push_back(rec);
             res.iterations = it;
             c.iteration = it;
@@ -1170,7 +1212,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
             prec.iterations = ph.iterations;
             prec.channelVoxelsEnd = st.channelVoxels;
             caveAroundTable(dom, hasTable ? &table : nullptr, prec);
-            res.phases.push_back(std::move(prec));
+            res.phases.push_back(prec);
         }
     }
     if (phased) restoreSinks();

@@ -130,7 +130,8 @@ double stage2PressureCap(const Domain& domain, const Stage2Options& options);
 /// @throw RuntimeError if water conservation or finiteness is violated (a bug, never user input)
 /// With `checkpoints`, saves its state every so many iterations, or continues from a saved state:
 /// the result is the same bits either way.
-/// @throw InputError when `checkpoints.resume` is not a state of this domain (damaged bytes)
+/// @throw InputError when `checkpoints.resume` is not a state of this domain and these phases
+///        (damaged bytes, or a state of another scenario)
 Stage2Result runStage2(Domain& domain, const Stage2Options& options, const ProgressFn& progress = {},
                        const SnapshotFn& snapshot = {}, const Stage2Checkpoints& checkpoints = {});
 

@@ -6,7 +6,8 @@
 namespace cavesim::stage2 {
 namespace {
 
-constexpr std::uint32_t kCarryMagic = 0x32455453;  // "STE2"
+constexpr std::uint32_t kCarryMagic = 0x33455453;    // "STE3": with the phase records
+constexpr std::uint32_t kCarryMagicV1 = 0x32455453;  // "STE2": checkpoint format version 1, no phases
 
 void putOptional(ByteWriter& out, const std::optional<int>& v) {
     out.put(std::uint8_t(v ? 1 : 0));
@@ -24,6 +25,68 @@ template <typename T>
 void getGrid(ByteReader& in, Grid3<T>& grid, const Dims& dims, const char* what) {
     grid.dims = dims;
     in.getVector(grid.data, what, dims.count());
+}
+
+void putList(ByteWriter& out, const std::vector<int>& list) {
+    out.put(std::uint64_t(list.size()));
+    for (int x : list) out.put(std::int32_t(x));
+}
+
+/// A 1-based list of at most `count` distinct terminals in increasing order (what activeList gives).
+std::vector<int> getList(ByteReader& in, std::size_t count, const char* what) {
+    const std::uint64_t size = in.get<std::uint64_t>(what);
+    if (size > count) in.fail(std::string("too many entries in ") + what);
+    std::vector<int> list;
+    for (std::uint64_t k = 0; k < size; ++k) {
+        const std::int32_t x = in.get<std::int32_t>(what);
+        if (x < 1 || std::size_t(x) > count || (!list.empty() && x <= list.back()))
+            in.fail(std::string("an entry out of range in ") + what);
+        list.push_back(x);
+    }
+    return list;
+}
+
+void putPhase(ByteWriter& out, const Stage2PhaseRecord& p) {
+    out.put(std::int32_t(p.firstIteration));
+    out.put(std::int32_t(p.iterations));
+    out.put(p.waterTable);
+    out.put(std::uint8_t(p.fromSite ? 1 : 0));
+    putList(out, p.sinks);
+    putList(out, p.sources);
+    putOptional(out, p.breakthroughIteration);
+    for (long x : {p.channelVoxelsStart, p.channelVoxelsEnd, p.caveBelow, p.caveAbove}) out.put(std::int64_t(x));
+    for (const std::array<int, 3>* box : {&p.aboveLo, &p.aboveHi, &p.belowLo, &p.belowHi})
+        for (int x : *box) out.put(std::int32_t(x));
+    for (double x : {p.aboveSliceMean, p.injected, p.drained, p.eroded}) out.put(x);
+}
+
+/// A phase record of a run after `iterations` iterations on `dom`: checks what could index or
+/// count anything (runStage2 checks the rest against the scenario's phases).
+Stage2PhaseRecord getPhase(ByteReader& in, const Domain& dom, int iterations) {
+    Stage2PhaseRecord p;
+    p.firstIteration = in.get<std::int32_t>("a phase record");
+    p.iterations = in.get<std::int32_t>("a phase record");
+    if (p.firstIteration < 0 || p.firstIteration > iterations || p.iterations < 0 || p.iterations > iterations)
+        in.fail("a phase record out of range");
+    p.waterTable = in.get<double>("a phase record");
+    const std::uint8_t fromSite = in.get<std::uint8_t>("a phase record");
+    if (fromSite > 1 || !std::isfinite(p.waterTable)) in.fail("an unreadable phase record");
+    p.fromSite = fromSite == 1;
+    p.sinks = getList(in, dom.sinkVoxels.size(), "the sinks of a phase");
+    p.sources = getList(in, dom.sourceVoxels.size(), "the sources of a phase");
+    p.breakthroughIteration = getOptional(in, "a phase record");
+    for (long* x : {&p.channelVoxelsStart, &p.channelVoxelsEnd, &p.caveBelow, &p.caveAbove}) {
+        const std::int64_t v = in.get<std::int64_t>("a phase record");
+        if (v < 0 || std::uint64_t(v) > dom.dims.count()) in.fail("a voxel count out of range in a phase record");
+        *x = long(v);
+    }
+    for (std::array<int, 3>* box : {&p.aboveLo, &p.aboveHi, &p.belowLo, &p.belowHi})
+        for (int& x : *box) x = in.get<std::int32_t>("a phase record");
+    for (double* x : {&p.aboveSliceMean, &p.injected, &p.drained, &p.eroded}) {
+        *x = in.get<double>("a phase record");
+        if (!std::isfinite(*x)) in.fail("a phase total that is not a finite number");
+    }
+    return p;
 }
 
 }  // namespace
@@ -120,6 +183,9 @@ std::string encodeCarry(const Carry& c, const Domain& dom) {
         out.put(std::int64_t(h.pressureUpdates));
         out.put(std::int32_t(h.sourcesConnected));
     }
+    out.put(std::uint64_t(r.phases.size()));
+    for (const Stage2PhaseRecord& p : r.phases) putPhase(out, p);
+    putPhase(out, c.phase);
     out.put(std::uint64_t(c.refill.size()));
     for (const Refill& f : c.refill) {
         out.put(std::uint64_t(f.voxel));
@@ -143,7 +209,8 @@ std::string encodeCarry(const Carry& c, const Domain& dom) {
 void decodeCarry(const std::string& bytes, const std::string& shown, Carry& c, Domain& dom) {
     ByteReader in(bytes.data(), bytes.size(), shown);
     const Dims& d = dom.dims;
-    if (in.get<std::uint32_t>("the stage-2 state") != kCarryMagic) in.fail("no stage-2 state");
+    const std::uint32_t magic = in.get<std::uint32_t>("the stage-2 state");
+    if (magic != kCarryMagic && magic != kCarryMagicV1) in.fail("no stage-2 state");
     const std::uint32_t nx = in.get<std::uint32_t>("the grid size"), ny = in.get<std::uint32_t>("the grid size"),
                         nz = in.get<std::uint32_t>("the grid size");
     if (!(Dims{int(nx), int(ny), int(nz)} == d)) in.fail("a stage-2 state of another grid");
@@ -171,6 +238,13 @@ void decodeCarry(const std::string& bytes, const std::string& shown, Carry& c, D
         h.pressureUpdates = long(in.get<std::int64_t>("the history"));
         h.sourcesConnected = in.get<std::int32_t>("the history");
         r.history.push_back(h);
+    }
+    c.phase = Stage2PhaseRecord{};
+    if (magic == kCarryMagic) {  // the layout before it had no phases
+        const std::uint64_t phases = in.get<std::uint64_t>("the phase records");
+        if (phases > std::uint64_t(c.iteration)) in.fail("more phases than iterations");
+        for (std::uint64_t k = 0; k < phases; ++k) r.phases.push_back(getPhase(in, dom, c.iteration));
+        c.phase = getPhase(in, dom, c.iteration);
     }
     const std::uint64_t refills = in.get<std::uint64_t>("the refill levels");
     if (refills > d.count()) in.fail("more refill levels than voxels");

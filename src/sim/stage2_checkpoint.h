@@ -7,9 +7,15 @@
 /// dense water contents, the pressure rates and the pressure field with its pending sweep
 /// (fastmarch::EikonalField::save), the active tiles with every per-tile and per-voxel transient
 /// (stage2_steps.h `Stage2State`), the reach of the sinks, the source refill levels and the result
-/// so far (history, events, totals). Neither the porosity0 and zone grids (stage 1 fixes them) nor
+/// so far (history, events, totals, the records of the base-level phases done and of the phase in
+/// progress). Neither the porosity0 and zone grids (stage 1 fixes them) nor
 /// the terminals are stored: the state is restored onto the domain stage 1 and `prepareStage2`
-/// give, as `runStage2` started from it.
+/// give, as `runStage2` started from it. What a phase sets up and the scenario fixes (its water
+/// table, the vadose mask, which sinks drain and the flags of the others, the gravity potential) is
+/// not stored either: `runStage2` derives it again from the phases and the iteration.
+///
+/// Two layouts are read: the current one (magic "STE3") and the one before phases could be
+/// checkpointed ("STE2", written by checkpoint format version 1), which has no phase records.
 #pragma once
 
 #include <string>
@@ -27,8 +33,11 @@ namespace cavesim::stage2 {
 /// What runStage2 carries from one iteration to the next besides the domain.
 struct Carry {
     explicit Carry(const Dims& dims) : state(dims) {}
-    int iteration = 0;           ///< iterations done
-    Stage2Result result;         ///< so far (its times too: they continue)
+    int iteration = 0;    ///< iterations done
+    Stage2Result result;  ///< so far (its times too: they continue; `phases`: the phases done)
+    /// The record of the base-level phase in progress (the one holding `iteration`), as far as it
+    /// went; a default record in a run without phases.
+    Stage2PhaseRecord phase;
     std::vector<Refill> refill;  ///< source voxels and their refill levels
     double stored = 0;           ///< water in the domain after `iteration`
     Grid3<float> rate;           ///< pressure rate of each voxel (only falls)

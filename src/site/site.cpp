@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "sim/parameters.h"
+#include "sim/recharge.h"
 #include "sim/scenario_io.h"
 
 #ifdef CAVESIM_HAVE_GDAL
@@ -480,9 +481,11 @@ void loadSite(Scenario& s) {
     }
     if (s.stage2.enabled && s.sinks.empty() && data->sinks.empty())
         throw InputError(s.path + ": stage 2 needs at least one sink, and the springs file has no rows");
-    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && data->sources.empty())
+    if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.recharge.empty() && data->sources.empty())
         throw InputError(s.path + ": a stage needs at least one source, and the sinkholes file has no rows");
     s.siteData = std::move(data);
+    // [[recharge]] sits on the land surface: checked again now that the DEM places it.
+    if (!s.recharge.empty()) validateRecharge(s);
     validatePhaseTerminals(s);  // phases may name the site's sinkholes and springs
 #endif
 }

@@ -1,11 +1,13 @@
 // The checkpoint file of a run (app/checkpoint.h): what is written reads back the same, and a cut,
 // changed or foreign file is refused with an InputError naming it, never a crash.
+#include <cstring>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "app/checkpoint.h"
 #include "core/error.h"
+#include "core/fnv.h"
 
 using namespace cavesim;
 using namespace cavesim::app;
@@ -73,6 +75,32 @@ TEST(Checkpoint, CutChangedOrForeignFilesAreRefused) {
         FAIL();
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("dir/.x.checkpoint/checkpoint.cavesim"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Checkpoint, ReadsVersionsOneAndTwoOnly) {
+    // The version (u32 after the 16-byte magic) set to v, and the file checksum made to match.
+    const auto withVersion = [](std::uint32_t v) {
+        std::string bytes = encodeCheckpoint(sample());
+        std::memcpy(bytes.data() + 16, &v, 4);
+        Fnv1a64 h;
+        h.add(bytes.data(), bytes.size() - 8);
+        const std::uint64_t sum = h.value();
+        std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
+        return bytes;
+    };
+    std::uint32_t written = 0;
+    std::memcpy(&written, encodeCheckpoint(sample()).data() + 16, 4);
+    EXPECT_EQ(written, 2u);
+    // Version 1 has the same layout (its stage-2 state tells the rest: sim/stage2_checkpoint.h).
+    EXPECT_EQ(decodeCheckpoint(withVersion(1), "v1").stage2, sample().stage2);
+    for (std::uint32_t v : {0u, 3u}) {
+        try {
+            decodeCheckpoint(withVersion(v), "ck");
+            FAIL() << v;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("versions 1 to 2"), std::string::npos) << e.what();
+        }
     }
 }
 

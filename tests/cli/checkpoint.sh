@@ -1,7 +1,8 @@
 # Checkpoint and resume: a small 3D run (a shrunk Figure 10, both stages, snapshots, --formats
 # all) killed with SIGKILL in stage 2, resumed, killed again, resumed again, gives every file of an
 # uninterrupted run byte for byte (report.json, .md, .html: but for the timings); so does a
-# run with checkpoints that is never stopped. A damaged, cut or missing checkpoint: exit 2 and
+# run with checkpoints that is never stopped; so does a run with base-level phases and a water
+# table killed at and between phase boundaries. A damaged, cut or missing checkpoint: exit 2 and
 # nothing written.
 . "$(dirname "$0")/lib.sh"
 cat > s.toml <<'TOML'
@@ -117,9 +118,71 @@ same_outputs whole d "resumed from iteration 40"
 expect_exit 2 "no checkpoint" -- "$CAVESIM" resume nowhere -q
 stderr_has "no checkpoint to resume from"
 expect_exit 2 "negative interval" -- "$CAVESIM" run s.toml --out n --checkpoint-every -1 -q
-# Phases and water tables are not checkpointed yet: refused before anything is written.
-printf '\n[hydrology]\nwater_table = 5\n' | cat s.toml - > wt.toml
-expect_exit 2 "checkpoints with a water table" -- "$CAVESIM" run wt.toml --out w --checkpoint-every 10 -q
-stderr_has "not available yet"
-[ ! -e w ] && [ ! -e .w.checkpoint ] && pass "water table + checkpoints: nothing written" || fail "left: $(ls -A)"
+# Base-level phases under a dipping water table (sinks and sources change with the phase, the
+# sources refill by head): killed at a phase boundary (the newest checkpoint after iteration 90,
+# the last of phase 1), mid-phase and at the next boundary, resumed each time, gives every file of
+# an uninterrupted run.
+cat > ph.toml <<'TOML'
+name = "phased"
+seed = 5
+[domain]
+size = [28, 14, 20]
+[rock]
+porosity = 0.05
+noise = { amplitude = 0.01, scale = 4.0 }
+[[source]]
+at = [5, 4, 19]
+[[source]]
+at = [12, 10, 19]
+[[sink]]
+box = [[27, 5, 12], [27, 8, 14]]
+[[sink]]
+box = [[27, 5, 3], [27, 8, 5]]
+[stage1]
+enabled = false
+[stage2]
+p_rate = 0.05
+p_rate_channel = 0.001
+source_porosity = 0.5
+iterations = 150              # replaced by the phases' 200: resume checks against those
+snapshots = [30, 60, 90, 130]
+[hydrology]
+water_table = 13
+dip = 5
+dip_direction = 90
+vadose_lateral = 0.1
+[[phase]]
+iterations = 90
+sinks = [1]
+[[phase]]
+iterations = 90
+water_table = 4
+sinks = [2]
+sources = [1]
+[[phase]]
+iterations = 20
+water_table = 4
+[output]
+image_width = 256
+TOML
+expect_exit 0 "phased run" -- "$CAVESIM" run ph.toml --formats all --out phwhole -q
+python3 - <<'PY' && pass "phased run: three phases, each grows cave" || fail "phased run: phases"
+import json
+p = json.load(open("phwhole/report.json"))["stage2"]["phases"]
+assert [x["first_iteration"] for x in p] == [1, 91, 181] and all(x["cave_voxels_added"] > 0 for x in p[1:])
+PY
+expect_exit 0 "phased run with checkpoints every 30" -- "$CAVESIM" run ph.toml --formats all --out phck --checkpoint-every 30 -q
+same_outputs phwhole phck "phased checkpointed run"
+expect_exit 137 "phased run killed after iteration 95" -- env CAVESIM_TEST_KILL_AT_ITERATION=95 \
+  "$CAVESIM" run ph.toml --formats all --out ph --checkpoint-every 30 -j 1 -q
+expect_exit 137 "phased resume killed after iteration 130" -- env CAVESIM_TEST_KILL_AT_ITERATION=130 \
+  "$CAVESIM" resume ph -j 2
+stderr_has "after stage-2 iteration 90"
+expect_exit 137 "phased resume killed after iteration 180" -- env CAVESIM_TEST_KILL_AT_ITERATION=180 \
+  "$CAVESIM" resume ph -j 1
+stderr_has "after stage-2 iteration 120"
+expect_exit 0 "phased resume to the end" -- "$CAVESIM" resume ph
+stderr_has "after stage-2 iteration 180"
+same_outputs phwhole ph "phased run killed three times and resumed"
+[ ! -e .ph.checkpoint ] && pass "phased: checkpoint folder removed" || fail ".ph.checkpoint left behind"
 finish

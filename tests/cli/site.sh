@@ -27,6 +27,18 @@ x = g.transform.indexToWorld((0, 0, 0))
 assert abs(x[0] - 500002.5) < 1e-6 and abs(x[1] - 4100002.5) < 1e-6 and abs(x[2] - 302.5) < 1e-6, x
 PY
 fi
+# [[recharge]] under the DEM: diffuse inputs on the land surface of their columns, beside the
+# site's sinkholes (3) and spring (1), counted by validate.
+{ cat site/s.toml; printf '\n[[recharge]]\nkind = "diffuse"\nspacing = 15.0\n'; } > site/recharge.toml
+expect_exit 0 "validate a site with diffuse recharge" -- "$CAVESIM" validate site/recharge.toml
+grep -qF "15 source(s), 1 sink(s)" stdout.txt stderr.txt && pass "validate counts recharge, sinkholes and springs" ||
+  fail "validate's counts: $(cat stdout.txt stderr.txt)"
+expect_exit 0 "site run with diffuse recharge" -- "$CAVESIM" run site/recharge.toml --out rr -q --formats none
+python3 - rr/report.json <<'PY' && pass "recharge sources on the land surface" || fail "recharge sources"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["recharge"]["sources"] == 12 and r["recharge"]["first_source"] == 1, r["recharge"]
+PY
 expect_exit 0 "report rebuilds a site run" -- "$CAVESIM" report r
 expect_exit 0 "site ensemble of 2" -- "$CAVESIM" ensemble site/s.toml --members 2 --out e -j 2
 python3 - e/ensemble.json <<'PY' && pass "site ensemble summary" || fail "site ensemble summary"

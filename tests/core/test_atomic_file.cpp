@@ -147,6 +147,35 @@ TEST(AtomicFile, AShortWriteIsAnErrorAndLeavesTheOldFile) {
     EXPECT_EQ(entries(dir.path), std::vector<std::string>{"state.bin"});
 }
 
+TEST(AtomicFile, WritesPiecesInOrderAndCountsShortWritesOverAllOfThem) {
+    TempDir dir;
+    const fs::path p = dir.path / "pieces.bin";
+    const std::string grid(3000, 'g');
+    const std::uint64_t size = grid.size();
+    writeFileAtomic(p.string(), {"head_", std::string_view(reinterpret_cast<const char*>(&size), sizeof size), grid,
+                                 std::string_view(), "_tail"});
+    EXPECT_EQ(readAll(p), "head_" + std::string(reinterpret_cast<const char*>(&size), sizeof size) + grid + "_tail");
+    EXPECT_EQ(entries(dir.path), std::vector<std::string>{"pieces.bin"});
+    // A file-size limit inside the second piece: an error counting the bytes of all the pieces.
+    struct rlimit old {};
+    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+    void (*previous)(int) = std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit small = old;
+    small.rlim_cur = 4096;
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    std::string message;
+    try {
+        writeFileAtomic(p.string(), {std::string(3000, 'a'), std::string(3000, 'b'), std::string(3000, 'c')});
+    } catch (const RuntimeError& e) {
+        message = e.what();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, previous);
+    EXPECT_NE(message.find("4096 of 9000 bytes"), std::string::npos) << message;
+    EXPECT_EQ(readAll(p).size(), 3000u + sizeof size + 5 + 5);  // the old file, whole
+    EXPECT_EQ(entries(dir.path), std::vector<std::string>{"pieces.bin"});
+}
+
 TEST(AtomicFile, SyncDirectoryNamesAFolderThatIsNotThere) {
     TempDir dir;
     EXPECT_NO_THROW(syncDirectory(dir.path));

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -36,11 +37,10 @@ std::string readFile(const fs::path& p) {
     return s.str();
 }
 
-/// Runs the command; returns its exit code, stderr in `err`.
-int command(const std::string& args, const fs::path& dir, std::string* err = nullptr) {
+/// Runs the command (with `env`, "NAME=value ", before it); returns its exit code, stderr in `err`.
+int command(const std::string& args, const fs::path& dir, std::string* err = nullptr, const std::string& env = "") {
     const fs::path errFile = dir / "stderr.txt";
-    const std::string line =
-        std::string("'") + CAVESIM_BINARY + "' " + args + " > /dev/null 2> '" + errFile.string() + "'";
+    const std::string line = env + "'" + CAVESIM_BINARY + "' " + args + " > /dev/null 2> '" + errFile.string() + "'";
     const int status = std::system(line.c_str());
     if (err) *err = readFile(errFile);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -230,4 +230,248 @@ TEST(Lib, StageOneLimitGivesTheCommandsMessage) {
     const std::string m = inputErrorOf([&] { api::run(api::Scenario::fromTomlFile(file.string())); });
     EXPECT_EQ("cavesim: error: " + m + "\n", err);
     EXPECT_NE(m.find("'stage1.max_graph_voxels' = 100"), std::string::npos) << m;
+}
+
+namespace {
+
+/// The same bits: every grid, the mesh, the skeleton and the report's numbers (not its timings).
+void expectSameResult(const api::Result& a, const api::Result& b, const std::string& what) {
+    SCOPED_TRACE(what);
+    const auto same = [](const auto& x, const auto& y) {
+        return x.dims == y.dims && std::memcmp(x.data, y.data, x.size() * sizeof(*x.data)) == 0;
+    };
+    EXPECT_TRUE(same(a.porosity(), b.porosity()));
+    EXPECT_TRUE(same(a.porosity0(), b.porosity0()));
+    EXPECT_TRUE(same(a.pressure(), b.pressure()));
+    EXPECT_TRUE(same(a.flow(), b.flow()));
+    EXPECT_TRUE(same(a.water(), b.water()));
+    EXPECT_TRUE(same(a.flags(), b.flags()));
+    EXPECT_TRUE(same(a.zone(), b.zone()));
+    EXPECT_TRUE(same(a.caveMask(), b.caveMask()));
+    EXPECT_EQ(a.mesh().vertices, b.mesh().vertices);
+    EXPECT_EQ(a.mesh().triangles, b.mesh().triangles);
+    ASSERT_EQ(a.skeleton().nodes.size(), b.skeleton().nodes.size());
+    for (std::size_t n = 0; n < a.skeleton().nodes.size(); ++n) {
+        EXPECT_EQ(a.skeleton().nodes[n].position, b.skeleton().nodes[n].position);
+        EXPECT_EQ(a.skeleton().nodes[n].radius, b.skeleton().nodes[n].radius);
+    }
+    EXPECT_EQ(a.skeleton().edges, b.skeleton().edges);
+    const api::Report &p = a.report(), &q = b.report();
+    EXPECT_EQ(p.iterations, q.iterations);
+    EXPECT_EQ(p.breakthroughIteration, q.breakthroughIteration);
+    EXPECT_EQ(p.sourceConnectedIteration, q.sourceConnectedIteration);
+    EXPECT_EQ(p.channelVoxels, q.channelVoxels);
+    EXPECT_EQ(p.zones, q.zones);
+    EXPECT_EQ(p.protochannelVoxels, q.protochannelVoxels);
+    EXPECT_EQ(p.sourcesConnected, q.sourcesConnected);
+    EXPECT_EQ(p.confluences, q.confluences);
+    EXPECT_EQ(p.phreaticLoops, q.phreaticLoops);
+    EXPECT_EQ(p.skeletonNodes, q.skeletonNodes);
+    EXPECT_EQ(p.lengthM, q.lengthM);  // exact: the same bits
+    EXPECT_EQ(p.volumeM3, q.volumeM3);
+    EXPECT_EQ(p.networkDensityOpt, q.networkDensityOpt);
+    EXPECT_EQ(p.porosityPctRect, q.porosityPctRect);
+    EXPECT_EQ(p.meanWidthM, q.meanWidthM);
+    EXPECT_EQ(p.meshFaces, q.meshFaces);
+    EXPECT_EQ(p.meshVolumeM3, q.meshVolumeM3);
+    // The report document, its timings and thread count aside.
+    const auto numbers = [](const std::string& json) {
+        std::istringstream in(json);
+        std::string line, out;
+        int skip = 0;  // inside "timing_s": { … }
+        while (std::getline(in, line)) {
+            if (line.find("\"timing") != std::string::npos && line.find('{') != std::string::npos) skip = 1;
+            if (skip) {
+                if (line.find('}') != std::string::npos) skip = 0;
+                continue;
+            }
+            if (line.find("\"threads\"") != std::string::npos || line.find("seconds") != std::string::npos) continue;
+            out += line + "\n";
+        }
+        return out;
+    };
+    EXPECT_EQ(numbers(p.json), numbers(q.json));
+}
+
+/// Runs `s` with checkpoints every `every` iterations into `file`, stopped (by `stop`) when stage 2
+/// reports iteration `at` done; expects Cancelled.
+void runStopped(const api::Scenario& s, const fs::path& file, int every, long at, bool throwFromProgress) {
+    api::RunOptions o;
+    o.threads = 2;
+    o.checkpointPath = file.string();
+    o.checkpointEvery = every;
+    o.progress = [&](const std::string& phase, long done, long) {
+        if (phase != "stage 2" || done != at) return;
+        if (throwFromProgress) throw cavesim::Cancelled("stopped by the test");
+        o.cancel.cancel();
+    };
+    EXPECT_THROW(api::run(s, o), cavesim::Cancelled);
+}
+
+/// Resumes `file`; the first stage-2 iteration reported is `first`.
+api::Result resumed(const fs::path& file, long first, int threads = 1) {
+    api::RunOptions o;
+    o.threads = threads;  // another thread count: the same results
+    long seen = 0;
+    o.progress = [&](const std::string& phase, long done, long) {
+        if (phase == "stage 2" && seen == 0) seen = done;
+    };
+    api::Result r = api::resume(file.string(), o);
+    EXPECT_EQ(seen, first);
+    return r;
+}
+
+}  // namespace
+
+TEST(Lib, CancelledRunResumesFromItsCheckpointBitForBit) {
+    const fs::path dir = scratch("checkpoint");
+    const api::Scenario s = api::Scenario::fromTomlFile(kSmall);
+    api::RunOptions o;
+    o.threads = 2;
+    const api::Result whole = api::run(s, o);
+    ASSERT_EQ(whole.report().iterations, 150);
+
+    const fs::path file = dir / "small.ckpt";
+    runStopped(s, file, 20, 50, false);  // cancelled after iteration 50: the checkpoint after 40 stays
+    ASSERT_TRUE(fs::is_regular_file(file));
+    const api::Result r = resumed(file, 41);
+    expectSameResult(whole, r, "cancelled after 50, checkpoint after 40");
+    EXPECT_EQ(r.scenario().toToml(), s.toToml());
+    EXPECT_EQ(r.scenario().sourceName(), kSmall);
+
+    // A resumed run checkpoints in turn, into the file it resumed from; stopped again and resumed.
+    api::RunOptions again;
+    again.threads = 2;
+    again.checkpointPath = file.string();
+    again.checkpointEvery = 30;
+    again.progress = [&](const std::string& phase, long done, long) {
+        if (phase == "stage 2" && done == 100) throw cavesim::Cancelled("stopped again");
+    };
+    EXPECT_THROW(api::resume(file.string(), again), cavesim::Cancelled);
+    expectSameResult(whole, resumed(file, 91), "stopped again after 100, checkpoint after 90");
+}
+
+TEST(Lib, CheckpointsPassBetweenTheCommandAndTheLibrary) {
+    const fs::path dir = scratch("checkpoint_command");
+    const api::Scenario s = api::Scenario::fromTomlFile(kSmall);
+    const api::Result whole = api::run(s);
+    // The command kills itself after iteration 70, its checkpoint after 60 left beside --out.
+    const int code =
+        command("run '" + kSmall + "' --out '" + (dir / "out").string() + "' --quiet --threads 2 --checkpoint-every 30",
+                dir, nullptr, "CAVESIM_TEST_KILL_AT_ITERATION=70 ");
+    EXPECT_NE(code, 0);
+    const fs::path file = dir / ".out.checkpoint" / "checkpoint.cavesim";
+    ASSERT_TRUE(fs::is_regular_file(file));
+    expectSameResult(whole, resumed(file, 61, 2), "the command's checkpoint after 60");
+
+    // The other way: the library's checkpoint, where `cavesim resume DIR` looks for it, finishes the
+    // command's folder with the state file of a run that never stopped.
+    const fs::path ours = dir / ".lib.checkpoint" / "checkpoint.cavesim";
+    fs::create_directories(ours.parent_path());
+    runStopped(s, ours, 20, 50, false);
+    ASSERT_EQ(command("resume '" + (dir / "lib").string() + "' --quiet --threads 2", dir), 0);
+    whole.writeState((dir / "state.vdb").string());
+    EXPECT_EQ(readFile(dir / "lib" / "state.vdb"), readFile(dir / "state.vdb"));
+    EXPECT_FALSE(fs::exists(ours));  // spent once the folder is in place
+    // Unless the run took pictures before the checkpoint: the library draws none.
+    api::Scenario pictured = s;
+    pictured.set("stage2.snapshots", {10});
+    const fs::path drawn = dir / ".pic.checkpoint" / "checkpoint.cavesim";
+    fs::create_directories(drawn.parent_path());
+    runStopped(pictured, drawn, 20, 30, false);
+    std::string err;
+    EXPECT_EQ(command("resume '" + (dir / "pic").string() + "' --quiet", dir, &err), 2);
+    EXPECT_NE(err.find("0 of the 1 stage-2 pictures"), std::string::npos) << err;
+}
+
+TEST(Lib, PhasedRunResumesFromItsCheckpointBitForBit) {
+    const fs::path dir = scratch("checkpoint_phased");
+    // Base-level phases under a dipping water table (tests/cli/checkpoint.sh's, shorter).
+    const api::Scenario s = api::Scenario::fromTomlString(R"(name = "phased"
+seed = 5
+[domain]
+size = [28, 14, 20]
+[rock]
+porosity = 0.05
+noise = { amplitude = 0.01, scale = 4.0 }
+[[source]]
+at = [5, 4, 19]
+[[source]]
+at = [12, 10, 19]
+[[sink]]
+box = [[27, 5, 12], [27, 8, 14]]
+[[sink]]
+box = [[27, 5, 3], [27, 8, 5]]
+[stage1]
+enabled = false
+[stage2]
+p_rate = 0.05
+p_rate_channel = 0.001
+source_porosity = 0.5
+[hydrology]
+water_table = 13
+dip = 5
+dip_direction = 90
+vadose_lateral = 0.1
+[[phase]]
+iterations = 30
+sinks = [1]
+[[phase]]
+iterations = 30
+water_table = 4
+sinks = [2]
+sources = [1]
+[[phase]]
+iterations = 10
+water_table = 4
+)",
+                                                          "phased.toml");
+    api::RunOptions o;
+    o.threads = 2;
+    o.mesh = false;
+    const api::Result whole = api::run(s, o);
+    ASSERT_EQ(whole.report().iterations, 70);
+    const fs::path file = dir / "phased.ckpt";
+    runStopped(s, file, 15, 31, true);  // the checkpoint after 30, the end of phase 1
+    api::RunOptions ro;
+    ro.mesh = false;
+    const api::Result atBoundary = api::resume(file.string(), ro);
+    expectSameResult(whole, atBoundary, "checkpoint at the phase boundary");
+    runStopped(s, file, 15, 50, false);  // the checkpoint after 45, inside phase 2
+    expectSameResult(whole, api::resume(file.string(), ro), "checkpoint inside phase 2");
+}
+
+TEST(Lib, BadCheckpointIsAnInputErrorAndAFailedWriteARuntimeError) {
+    const fs::path dir = scratch("checkpoint_bad");
+    const api::Scenario s = api::Scenario::fromTomlFile(kSmall);
+    EXPECT_NE(inputErrorOf([&] { api::resume((dir / "missing.ckpt").string()); }).find("no checkpoint to resume from"),
+              std::string::npos);
+    std::ofstream(dir / "garbage.ckpt") << "not a checkpoint at all, just text";
+    EXPECT_NE(inputErrorOf([&] { api::resume((dir / "garbage.ckpt").string()); }).find("garbage.ckpt"),
+              std::string::npos);
+
+    const fs::path file = dir / "good.ckpt";
+    runStopped(s, file, 10, 10, false);  // the checkpoint after 10
+    const std::string good = readFile(file);
+    ASSERT_GT(good.size(), 100u);
+    std::ofstream(dir / "cut.ckpt", std::ios::binary) << good.substr(0, good.size() / 2);
+    EXPECT_NE(inputErrorOf([&] { api::resume((dir / "cut.ckpt").string()); }).find("cut.ckpt"), std::string::npos);
+    std::string flipped = good;
+    flipped[flipped.size() / 2] ^= 0x20;
+    std::ofstream(dir / "flipped.ckpt", std::ios::binary) << flipped;
+    EXPECT_NE(inputErrorOf([&] { api::resume((dir / "flipped.ckpt").string()); }).find("flipped.ckpt"),
+              std::string::npos);
+
+    api::RunOptions o;
+    o.checkpointEvery = 10;  // without a path
+    EXPECT_THROW(api::run(s, o), cavesim::InputError);
+    o.checkpointPath = (dir / "no-such-folder" / "x.ckpt").string();
+    EXPECT_THROW(api::run(s, o), cavesim::InputError);
+    o.checkpointEvery = -1;
+    EXPECT_THROW(api::run(s, o), cavesim::InputError);
+    // A write that fails (the path is a folder): RuntimeError, at the first checkpoint.
+    fs::create_directories(dir / "a-folder");
+    o.checkpointEvery = 10;
+    o.checkpointPath = (dir / "a-folder").string();
+    EXPECT_THROW(api::run(s, o), cavesim::RuntimeError);
 }

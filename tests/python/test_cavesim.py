@@ -184,3 +184,81 @@ def test_progress_and_cancel():
     with pytest.raises(cavesim.Cancelled):
         cavesim.run(SMALL, progress=cancel, cancel=token)
     assert token.cancelled
+
+
+def _without_timings(doc):
+    """The report document without its timings and thread count (they differ between runs)."""
+    if isinstance(doc, dict):
+        return {k: _without_timings(v) for k, v in doc.items()
+                if k not in ("timing_s", "threads") and "seconds" not in k}
+    if isinstance(doc, list):
+        return [_without_timings(v) for v in doc]
+    return doc
+
+
+def _expect_same_bits(a, b):
+    for name in ("porosity", "porosity0", "pressure", "flow", "water", "flags", "zone", "cave_mask"):
+        x, y = getattr(a, name), getattr(b, name)
+        assert x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes(), name
+    assert a.mesh.vertices.tobytes() == b.mesh.vertices.tobytes()
+    assert a.mesh.faces.tobytes() == b.mesh.faces.tobytes()
+    assert a.skeleton.nodes.tobytes() == b.skeleton.nodes.tobytes()
+    assert _without_timings(a.report) == _without_timings(b.report)
+
+
+def test_checkpoint_cancel_and_resume(tmp_path, result):
+    ck = tmp_path / "small.ckpt"
+    token = cavesim.CancelToken()
+
+    def cancel(phase, done, total):
+        if phase == "stage 2" and done == 50:
+            token.cancel()
+
+    with pytest.raises(cavesim.Cancelled):
+        cavesim.run(SMALL, threads=2, progress=cancel, cancel=token, checkpoint_path=ck, checkpoint_every=20)
+    assert ck.is_file()  # the checkpoint after iteration 40
+    first = []
+    r = cavesim.resume(ck, threads=1, progress=lambda p, d, t: first.append(d) if p == "stage 2" else None)
+    assert first[0] == 41
+    _expect_same_bits(r, result)
+    assert r.scenario.to_toml() == result.scenario.to_toml()
+
+    # Stopped again by an exception in the callback, the resumed run's own checkpoint (same file) resumes.
+    class Stop(Exception):
+        pass
+
+    def stop(phase, done, total):
+        if phase == "stage 2" and done == 95:
+            raise Stop()
+
+    with pytest.raises(Stop):
+        cavesim.resume(str(ck), progress=stop, checkpoint_path=ck, checkpoint_every=30)
+    first.clear()
+    _expect_same_bits(cavesim.resume(ck, progress=lambda p, d, t: first.append(d) if p == "stage 2" else None),
+                      result)
+    assert first[0] == 91
+
+
+def test_bad_checkpoints(tmp_path):
+    with pytest.raises(cavesim.InputError, match="no checkpoint to resume from"):
+        cavesim.resume(tmp_path / "missing.ckpt")
+    (tmp_path / "text.ckpt").write_text("not a checkpoint")
+    with pytest.raises(cavesim.InputError, match="text.ckpt"):
+        cavesim.resume(tmp_path / "text.ckpt")
+    token = cavesim.CancelToken()
+
+    def cancel(phase, done, total):
+        if phase == "stage 2" and done == 10:
+            token.cancel()
+
+    ck = tmp_path / "good.ckpt"
+    with pytest.raises(cavesim.Cancelled):
+        cavesim.run(SMALL, progress=cancel, cancel=token, checkpoint_path=ck, checkpoint_every=10, mesh=False)
+    (tmp_path / "cut.ckpt").write_bytes(ck.read_bytes()[:-100])
+    with pytest.raises(cavesim.InputError, match="cut.ckpt"):
+        cavesim.resume(tmp_path / "cut.ckpt")
+    with pytest.raises(cavesim.InputError):
+        cavesim.run(SMALL, checkpoint_every=10)  # no path
+    (tmp_path / "folder").mkdir()
+    with pytest.raises(cavesim.RuntimeError, match="cannot write"):
+        cavesim.run(SMALL, checkpoint_path=tmp_path / "folder", checkpoint_every=10, mesh=False, analysis=False)

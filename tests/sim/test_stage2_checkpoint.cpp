@@ -47,6 +47,80 @@ Scenario scenario() {
     return parseScenarioString(kScenario, "ck.toml");
 }
 
+/// Base-level phases under a dipping water table: each phase drains another sink or refills other
+/// sources, the cave grows in all three; phases of 30 iterations, so checkpoints every 10 fall on
+/// both phase boundaries and between them.
+const char* kPhased = R"(name = "ckphases"
+seed = 5
+[domain]
+size = [20, 10, 16]
+[rock]
+porosity = 0.05
+noise = { amplitude = 0.01, scale = 4.0 }
+[[source]]
+at = [4, 3, 15]
+[[source]]
+at = [9, 7, 15]
+[[sink]]
+box = [[19, 3, 9], [19, 6, 11]]
+[[sink]]
+box = [[19, 3, 2], [19, 6, 4]]
+[stage1]
+enabled = false
+[stage2]
+p_rate = 0.05
+p_rate_channel = 0.001
+source_porosity = 0.5
+[hydrology]
+water_table = 10
+dip = 5
+dip_direction = 90
+[[phase]]
+iterations = 30
+sinks = [1]
+[[phase]]
+iterations = 30
+water_table = 3
+sinks = [2]
+sources = [1]
+[[phase]]
+iterations = 20
+water_table = 3
+)";
+
+Scenario phased() {
+    return parseScenarioString(kPhased, "ckphases.toml");
+}
+
+/// A vertical section with two springs: the upper joins the source in phase 1 (a breakthrough of
+/// the phase), the lower one in phase 2 (test_stage2.cpp, "PhasesConserveWaterAndGrowALowerLevel").
+const char* kLevels = R"(name = "cklevels"
+seed = 4
+[domain]
+size = [48, 1, 30]
+[rock]
+porosity = 0.05
+[[source]]
+at = [8, 0, 29]
+[[sink]]
+box = [[47, 0, 19], [47, 0, 21]]
+[[sink]]
+box = [[47, 0, 4], [47, 0, 6]]
+[stage1]
+enabled = false
+[stage2]
+p_rate = 0.05
+p_rate_channel = 0.001
+[[phase]]
+iterations = 150
+water_table = 20
+sinks = [1]
+[[phase]]
+iterations = 150
+water_table = 5
+sinks = [2]
+)";
+
 Domain build(const Scenario& s) {
     Rng rng(s.seed);
     Domain d = buildDomain(s, rng);
@@ -91,6 +165,29 @@ void expectSameRun(const Domain& a, const Stage2Result& ra, const Domain& b, con
         EXPECT_EQ(x.pressureUpdates, y.pressureUpdates);
         EXPECT_EQ(x.sourcesConnected, y.sourcesConnected);
         EXPECT_EQ(x.balanceError, y.balanceError);
+    }
+    ASSERT_EQ(ra.phases.size(), rb.phases.size());
+    for (std::size_t k = 0; k < ra.phases.size(); ++k) {
+        const Stage2PhaseRecord &x = ra.phases[k], &y = rb.phases[k];
+        EXPECT_EQ(x.firstIteration, y.firstIteration);
+        EXPECT_EQ(x.iterations, y.iterations);
+        EXPECT_EQ(x.waterTable, y.waterTable);
+        EXPECT_EQ(x.fromSite, y.fromSite);
+        EXPECT_EQ(x.sinks, y.sinks);
+        EXPECT_EQ(x.sources, y.sources);
+        EXPECT_EQ(x.breakthroughIteration, y.breakthroughIteration);
+        EXPECT_EQ(x.channelVoxelsStart, y.channelVoxelsStart);
+        EXPECT_EQ(x.channelVoxelsEnd, y.channelVoxelsEnd);
+        EXPECT_EQ(x.caveBelow, y.caveBelow);
+        EXPECT_EQ(x.caveAbove, y.caveAbove);
+        EXPECT_EQ(x.aboveLo, y.aboveLo);
+        EXPECT_EQ(x.aboveHi, y.aboveHi);
+        EXPECT_EQ(x.belowLo, y.belowLo);
+        EXPECT_EQ(x.belowHi, y.belowHi);
+        EXPECT_EQ(x.aboveSliceMean, y.aboveSliceMean);
+        EXPECT_EQ(x.injected, y.injected);
+        EXPECT_EQ(x.drained, y.drained);
+        EXPECT_EQ(x.eroded, y.eroded);
     }
 }
 
@@ -192,4 +289,131 @@ TEST(Stage2Checkpoint, CutOrDamagedStateIsRefused) {
         stage2::Carry c(dom.dims);
         EXPECT_THROW(stage2::decodeCarry(bad, "magic", c, dom), InputError);
     }
+}
+
+/// Resumes a phased run from each checkpoint (every `every`) and expects the same bits.
+void resumeEveryCheckpoint(const Scenario& s, int every, int phaseLength) {
+    Domain a = prepared(s), whole = prepared(s);
+    const Stage2Result ra = runStage2(a, s.stage2);
+    Stage2Result rWhole;
+    const auto saved = savedStates(s, every, whole, rWhole);
+    expectSameRun(a, ra, whole, rWhole);  // checkpoints change nothing
+    for (const auto& [iteration, bytes] : saved) {
+        SCOPED_TRACE("resumed after iteration " + std::to_string(iteration));
+        Domain d = prepared(s);
+        Stage2Checkpoints ck;
+        ck.resume = &bytes;
+        ck.resumeName = "test";
+        std::map<int, std::string> again;
+        ck.every = every;
+        ck.save = [&](int it, const std::string& b) { again[it] = b; };
+        const Stage2Result r = runStage2(d, s.stage2, {}, {}, ck);
+        expectSameRun(whole, rWhole, d, r);
+        EXPECT_EQ(again.size(), saved.size() - std::size_t(iteration / every));
+        // Saving the restored state gives the same bytes.
+        Domain dom = prepared(s);
+        stage2::Carry c(dom.dims);
+        stage2::decodeCarry(bytes, "test", c, dom);
+        EXPECT_EQ(c.result.phases.size(), std::size_t((iteration - 1) / phaseLength));
+        EXPECT_EQ(stage2::encodeCarry(c, dom), bytes);
+    }
+}
+
+TEST(Stage2Checkpoint, PhasedRunResumesFromEveryCheckpoint) {
+    const Scenario s = phased();
+    Domain a = prepared(s);
+    const Stage2Result ra = runStage2(a, s.stage2);
+    ASSERT_EQ(ra.phases.size(), 3u);
+    EXPECT_GT(ra.phases[1].channelVoxelsEnd, ra.phases[1].channelVoxelsStart);
+    EXPECT_GT(ra.phases[2].channelVoxelsEnd, ra.phases[2].channelVoxelsStart);
+    resumeEveryCheckpoint(s, 10, 30);  // after 10, …, 70; 30 and 60 end a phase
+}
+
+TEST(Stage2Checkpoint, PhaseBreakthroughSurvivesResume) {
+    const Scenario s = parseScenarioString(kLevels, "cklevels.toml");
+    Domain a = prepared(s);
+    const Stage2Result ra = runStage2(a, s.stage2);
+    ASSERT_EQ(ra.phases.size(), 2u);
+    ASSERT_TRUE(ra.phases[0].breakthroughIteration.has_value());
+    EXPECT_GT(*ra.phases[0].breakthroughIteration, 25);
+    resumeEveryCheckpoint(s, 25, 150);  // before and after phase 1's breakthrough, at its end
+}
+
+TEST(Stage2Checkpoint, StateOfOtherPhasesIsRefused) {
+    const Scenario s = phased();
+    Domain d = prepared(s);
+    Stage2Result r;
+    const auto saved = savedStates(s, 10, d, r);
+    const auto refused = [](const Scenario& other, const std::string& bytes) {
+        Domain dom = prepared(other);
+        Stage2Checkpoints ck;
+        ck.resume = &bytes;
+        ck.resumeName = "other";
+        EXPECT_THROW(runStage2(dom, other.stage2, {}, {}, ck), InputError);
+    };
+    // Every cut of a state with phase records is refused.
+    const std::string& mid = saved.at(40);
+    for (std::size_t n = 0; n < mid.size(); n += 1 + mid.size() / 300) {
+        Domain dom = prepared(s);
+        stage2::Carry c(dom.dims);
+        EXPECT_THROW(stage2::decodeCarry(mid.substr(0, n), "cut", c, dom), InputError) << n;
+    }
+    // Another sink in phase 2, another table in phase 1 (the grid and terminals are the same).
+    Scenario sinks = s;
+    sinks.stage2.phases[1].sinks = {1};
+    refused(sinks, saved.at(40));
+    refused(sinks, saved.at(60));
+    Scenario table = s;
+    table.stage2.phases[0].waterTable = 9;
+    refused(table, saved.at(20));
+    refused(table, saved.at(50));
+    // A plain run's state under phases, and a phased state in a plain run.
+    Scenario plain = s;
+    plain.stage2.phases.clear();
+    plain.stage2.hydrology.waterTable = -1;
+    plain.stage2.iterations = 80;
+    Domain p = prepared(plain);
+    Stage2Result rp;
+    refused(s, savedStates(plain, 10, p, rp).at(40));
+    refused(plain, saved.at(40));
+}
+
+TEST(Stage2Checkpoint, StateOfCheckpointVersion1IsRead) {
+    // Checkpoint format version 1 wrote the same stage-2 state without the phase records (no
+    // phases done, an empty record in progress) under the magic "STE2": such a state resumes.
+    const Scenario s = scenario();
+    Domain whole = prepared(s);
+    Stage2Result rWhole;
+    const std::string bytes = savedStates(s, 40, whole, rWhole).at(40);
+    std::string records;
+    ByteWriter out(records);
+    out.put(std::uint64_t(0));  // phases done
+    out.put(std::int32_t(0));   // first iteration
+    out.put(std::int32_t(0));   // iterations
+    out.put(-1.0);              // water table
+    out.put(std::uint8_t(0));   // from the site
+    out.put(std::uint64_t(0));  // sinks
+    out.put(std::uint64_t(0));  // sources
+    out.put(std::uint8_t(0));   // breakthrough
+    out.put(std::int32_t(0));
+    for (int k = 0; k < 4; ++k) out.put(std::int64_t(0));  // voxel counts
+    for (int k = 0; k < 4; ++k)
+        for (int c = 0; c < 3; ++c) out.put(std::int32_t(k % 2 == 0 ? 0 : -1));  // boxes
+    for (int k = 0; k < 4; ++k) out.put(0.0);                                    // totals
+    const std::size_t at = bytes.find(records);
+    ASSERT_NE(at, std::string::npos);
+    ASSERT_EQ(bytes.find(records, at + 1), std::string::npos);
+    ASSERT_EQ(bytes.substr(0, 4), "STE3");
+    std::string old = bytes;
+    old.erase(at, records.size());
+    old[3] = '2';
+    Domain d = prepared(s);
+    Stage2Checkpoints ck;
+    ck.resume = &old;
+    ck.resumeName = "version 1";
+    const Stage2Result r = runStage2(d, s.stage2, {}, {}, ck);
+    expectSameRun(whole, rWhole, d, r);
+    // Under phases it is refused: it holds no phase records.
+    Domain p = prepared(phased());
+    EXPECT_THROW(runStage2(p, phased().stage2, {}, {}, ck), InputError);
 }

@@ -17,6 +17,7 @@
 
 #include "core/error.h"
 #include "sim/domain.h"
+#include "sim/recharge.h"
 #include "site/site.h"
 
 using namespace cavesim;
@@ -292,4 +293,72 @@ TEST_F(SiteTest, WaterTableReachesTheDomainInIndexUnits) {
     const Domain d = buildDomain(s, rng);
     ASSERT_EQ(d.siteWaterTable.size(), 48u);
     for (double z : d.siteWaterTable) EXPECT_NEAR(z, 5.5, 1e-9);
+}
+
+// [[recharge]] under a DEM sits on the land surface of each column. The DEM rises 6 m a column,
+// 120 + 6 i m: the highest voxel centre (105 + 10 k m) not above it is k = 1, 2, 2, 3, 3, 4, 5, 5
+// for i = 0 … 7.
+TEST_F(SiteTest, RechargeSitsOnTheDemsLandSurface) {
+    const int top[8] = {1, 2, 2, 3, 3, 4, 5, 5};
+    Scenario s = scenario();
+    s.site.dem = tiff("slope.tif", 32633, kX0, kY0 + 6 * kH, kH, 8, 6, [](int c, int) { return 120.0 + 6 * c; });
+    s.stage1.enabled = true;  // a stage: recharge is its only source
+    RechargeSpec diffuse;     // spacing 1: one input on every column, at its land-surface voxel
+    diffuse.kind = RechargeKind::kDiffuse;
+    diffuse.spacing = 1.0;
+    diffuse.line = 20;
+    RechargeSpec sinkhole;  // one of radius 1 centred on column (3, 2): its columns' surfaces are 2, 3, 3
+    sinkhole.kind = RechargeKind::kSinkholes;
+    sinkhole.area = {3, 2, 3, 2};
+    sinkhole.count = 1;
+    sinkhole.radius = 1;
+    sinkhole.line = 30;
+    RechargeSpec stream;  // along y = 5 at z = 9 (above the land everywhere): lowered onto it
+    stream.kind = RechargeKind::kStream;
+    stream.points = {{0, 5, 9}, {7, 5, 9}};
+    stream.spacing = 1.0;
+    stream.line = 40;
+    s.recharge = {diffuse};
+    site::loadSite(s);
+    std::vector<SourceSpec> got = rechargeSources(s);
+    ASSERT_EQ(got.size(), 48u);
+    for (const SourceSpec& src : got) {
+        EXPECT_EQ(src.box.lo, src.box.hi);
+        EXPECT_EQ(src.box.lo[2], top[src.box.lo[0]]) << src.box.lo[0] << " " << src.box.lo[1];
+    }
+    s.recharge = {sinkhole, stream};
+    got = rechargeSources(s);
+    ASSERT_EQ(got.size(), 9u);
+    // The sinkhole hangs from the lowest surface voxel of its columns (2, at i = 2), r + 1 = 2 layers.
+    EXPECT_EQ(got[0].box.lo, (std::array<int, 3>{2, 1, 1}));
+    EXPECT_EQ(got[0].box.hi, (std::array<int, 3>{4, 3, 2}));
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(got[std::size_t(1 + i)].box.lo, (std::array<int, 3>{i, 5, top[i]}));
+    // In the domain every input is rock under the land (not air), and a source.
+    Rng rng(1);
+    const Domain dom = buildDomain(s, rng);
+    for (const SourceSpec& src : got) {
+        EXPECT_TRUE(dom.flags.at(src.box.hi[0], src.box.hi[1], src.box.hi[2]) & kSource);
+        EXPECT_LE(kZ0 + (src.box.hi[2] + 0.5) * kH, 120.0 + 6 * src.box.hi[0]);
+    }
+}
+
+TEST_F(SiteTest, RechargeOnAirOrOnASpringIsRefused) {
+    Scenario s = scenario();
+    // Column 0's land (102 m) lies below its lowest voxel centre (105 m): the column is air.
+    s.site.dem = tiff("low.tif", 32633, kX0, kY0 + 6 * kH, kH, 8, 6, [](int c, int) { return c == 0 ? 102.0 : 150.0; });
+    RechargeSpec diffuse;
+    diffuse.kind = RechargeKind::kDiffuse;
+    diffuse.spacing = 1.0;
+    diffuse.line = 12;
+    s.recharge = {diffuse};
+    const std::string air = error(s);
+    EXPECT_NE(air.find("s.toml:12: key '"), std::string::npos) << air;
+    EXPECT_NE(air.find("column x 0, y 0"), std::string::npos) << air;
+    EXPECT_NE(air.find("the column is air"), std::string::npos) << air;
+    // A spring on the land-surface voxel of a column that takes a diffuse input.
+    s.site.dem = dem();  // 150 + i: column 1's surface voxel is k 4
+    s.site.springs = text("springs.csv", "name,x,y\nS1,500015,4000005\n");
+    const std::string spring = error(s);
+    EXPECT_NE(spring.find("s.toml:12:"), std::string::npos) << spring;
+    EXPECT_NE(spring.find("an input at [1, 0, 4] falls on the voxel of spring 'S1'"), std::string::npos) << spring;
 }
