@@ -269,6 +269,20 @@ EnsembleOutcome runEnsemble(const EnsembleRequest& request, const Communicator& 
             if (vary[i].key == vary.back().key)
                 throw InputError("--vary " + t + ": '" + vary.back().key + "' is varied twice");
     }
+    // Every member's seed and draws must give a valid scenario (p_rate_channel at most p_rate,
+    // snapshots the run reaches, sinkholes that fit, ...): checked for all members before anything
+    // is written, so a request that makes an impossible member is refused with exit 2 instead of
+    // failing members one by one.
+    for (int i = 0; i < request.members; ++i) {
+        try {
+            (void)memberScenario(base, i, vary);
+        } catch (const InputError& e) {
+            std::string ranges;
+            for (const std::string& t : request.vary) ranges += " --vary " + t;
+            throw InputError(std::string(e.what()) + " (seed " + std::to_string(memberSeed(base.seed, i)) +
+                             (ranges.empty() ? std::string() : ", drawn by" + ranges) + ")");
+        }
+    }
     const fs::path out =
         fs::absolute(request.outDir.empty() ? fs::path("out") / (base.name + "_ensemble") : fs::path(request.outDir))
             .lexically_normal();

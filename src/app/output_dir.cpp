@@ -219,6 +219,15 @@ OutputDir::OutputDir(fs::path target, bool force) : force_(force) {
     if (!fs::is_directory(up, ec)) throw InputError(shown + ": " + up.string() + " is not a directory");
     if (::access(up.c_str(), W_OK | X_OK) != 0)
         throw InputError(shown + ": cannot write in " + up.string() + " (" + std::strerror(errno) + ")");
+    // A name longer than the file system allows would fail only when the results are moved into
+    // place, after the whole run.
+    const long nameMax = ::pathconf(up.c_str(), _PC_NAME_MAX);
+    if (nameMax > 0)
+        for (const fs::path& part : target_.lexically_relative(up))
+            if (long(part.native().size()) > nameMax)
+                throw InputError(shown + ": the name '" + part.string().substr(0, 40) + "…' has " +
+                                 std::to_string(part.native().size()) + " bytes; the file system allows at most " +
+                                 std::to_string(nameMax));
 }
 
 OutputDir::~OutputDir() {

@@ -258,9 +258,10 @@ static nlohmann::json fractureNetworkJson(const Scenario& s, const FractureNetwo
                         {"given_dip_direction_deg", g.dipDirection},
                         {"given_dip_deg", g.dip},
                         {"given_kappa", g.kappa},
-                        {"mean_dip_direction_deg", num(st.meanDipDirection)},
-                        {"mean_dip_deg", num(st.meanDip)},
-                        {"kappa_estimate", num(st.kappaEstimate)},
+                        // No mean of no disc, no concentration estimate from fewer than 2.
+                        {"mean_dip_direction_deg", st.count > 0 ? num(st.meanDipDirection) : nlohmann::json(nullptr)},
+                        {"mean_dip_deg", st.count > 0 ? num(st.meanDip) : nlohmann::json(nullptr)},
+                        {"kappa_estimate", st.count > 1 ? num(st.kappaEstimate) : nlohmann::json(nullptr)},
                         {"mean_length_m", num(st.meanLength * s.voxelSize)},
                         {"p32_per_m", num(st.p32 / s.voxelSize)},
                         {"p32_nominal_per_m", num(st.p32Nominal / s.voxelSize)},

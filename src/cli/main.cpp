@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("cavesim ") + CAVESIM_VERSION);
     app.require_subcommand(1);
 
+    // An empty --out (an unset shell variable) once fell back to the default folder silently.
+    const CLI::Validator notEmpty(
+        [](const std::string& v) { return v.empty() ? std::string("an empty path: give a folder") : std::string(); },
+        "PATH");
     app::RunRequest run;
     bool quiet = false;
     // --mesh-style and --mesh-normals override `[output]` keys: their names are the registry's.
@@ -54,7 +58,7 @@ int main(int argc, char** argv) {
     std::string meshStyle;
     CLI::App* runCmd = app.add_subcommand("run", "Run a scenario (the built-in Figure 10 scenario without SCENARIO)");
     runCmd->add_option("scenario", run.scenarioPath, "Scenario file (TOML); see docs/scenario-format.md");
-    runCmd->add_option("--out,-o", run.outDir, "Output directory (default out/<scenario name>)");
+    runCmd->add_option("--out,-o", run.outDir, "Output directory (default out/<scenario name>)")->check(notEmpty);
     runCmd->add_option("--threads,-j", run.threads, "Worker threads (default: all cores); results do not depend on it")
         ->check(CLI::Range(1, 1024));
     runCmd->add_option("--seed", run.seed, "Override the scenario's seed: a whole number in [0, 2^63 - 1]");
@@ -112,7 +116,8 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"paper", "geology"}))
         ->capture_default_str();
     reproCmd->add_option("--scenarios", repro.scenarioDir, "Folder of the scenarios")->capture_default_str();
-    reproCmd->add_option("--out,-o", repro.outDir, "Folder for the runs (default out/reproduce; geology: out/geology)");
+    reproCmd->add_option("--out,-o", repro.outDir, "Folder for the runs (default out/reproduce; geology: out/geology)")
+        ->check(notEmpty);
     reproCmd->add_option("--doc", repro.docPath,
                          "Markdown file to write, in an existing folder; the pictures go into images/ beside it "
                          "(default docs/reproduction.md; geology: docs/geology_settings.md)");
@@ -126,7 +131,8 @@ int main(int argc, char** argv) {
     ensembleCmd->add_option("--vary", ens.vary,
                             "KEY=LOW:HIGH[:uniform|log] draws a number key per member (repeatable; keys with 'rate' "
                             "in their name are log-uniform unless told)");
-    ensembleCmd->add_option("--out,-o", ens.outDir, "Ensemble folder (default out/<scenario name>_ensemble)");
+    ensembleCmd->add_option("--out,-o", ens.outDir, "Ensemble folder (default out/<scenario name>_ensemble)")
+        ->check(notEmpty);
     ensembleCmd
         ->add_option("--threads,-j", ens.threads,
                      "Threads of this process (default: all cores, shared by the ranks on a machine)")

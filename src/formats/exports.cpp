@@ -34,6 +34,8 @@ FormatSet parseFormatSet(const std::string& list) {
     for (;;) {
         const std::size_t comma = list.find(',', at);
         const std::string item = trim(list.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+        if (item == "none" && (at > 0 || comma != std::string::npos))
+            throw InputError("formats \"" + list + "\": \"none\" stands alone (it was ignored beside other entries)");
         if (item == "all") {
             for (std::size_t f = 0; f < kNames.size(); ++f) set.add(Format(f));
         } else if (item != "none") {

@@ -78,7 +78,11 @@ Vec3d sampleFisher(const Vec3d& mean, double kappa, Rng& rng) {
     CAVESIM_CHECK(kappa > 0, "sampleFisher: kappa must be positive");
     const double u = uniformOpen01(rng), v = uniformOpen01(rng);
     // cos θ from the inverse CDF, written to stay accurate for large kappa (e^(−2κ) underflows to 0).
-    const double w = std::clamp(1.0 + std::log(u + (1.0 - u) * std::exp(-2.0 * kappa)) / kappa, -1.0, 1.0);
+    // For small kappa e^(−2κ) rounds to 1 and ln(…) / κ to 0 or noise (every pole on the mean below
+    // κ ≈ 1e-16): there ln(1 − (1 − u)(1 − e^(−2κ))) is taken through log1p and expm1.
+    const double lnTerm = kappa < 1e-3 ? std::log1p(-(1.0 - u) * -std::expm1(-2.0 * kappa))
+                                       : std::log(u + (1.0 - u) * std::exp(-2.0 * kappa));
+    const double w = std::clamp(1.0 + lnTerm / kappa, -1.0, 1.0);
     const double s = std::sqrt(std::max(0.0, 1.0 - w * w)), phi = 2.0 * kPi * v;
     const Eigen::Vector3d local(s * std::cos(phi), s * std::sin(phi), w);
     const Eigen::Vector3d m = eig(mean).normalized();
@@ -128,6 +132,43 @@ double fractureCount(const FractureFamily& f, const Dims& dims) {
     return std::round(volume / (f.spacing * meanDiscArea(f.lengthExponent, f.minLength, f.maxLength)));
 }
 
+namespace {
+
+/// Draws one disc of family `f` (centre, pole, diameter: four draws and one of the length) into
+/// `d` and `length`; whether its axis-aligned extent overlaps the block.
+bool drawDisc(const FractureFamily& f, const Vec3d& mean, double grow, const double size[3], Rng& rng, FractureDisc& d,
+              double& length) {
+    for (int ax = 0; ax < 3; ++ax)
+        d.centre[ax] = -0.5 - grow + (uniformOpen01(rng) - 0x1.0p-54) * (size[ax] + 2 * grow);
+    d.normal = sampleFisher(mean, f.kappa, rng);
+    length = samplePowerLaw(f.lengthExponent, f.minLength, f.maxLength, rng);
+    d.radius = 0.5 * length;
+    bool reaches = true;
+    for (int ax = 0; ax < 3; ++ax) {
+        const double extent = d.radius * std::sqrt(std::max(0.0, 1.0 - d.normal[ax] * d.normal[ax]));
+        reaches = reaches && d.centre[ax] + extent >= -0.5 && d.centre[ax] - extent <= size[ax] - 0.5;
+    }
+    return reaches;
+}
+
+}  // namespace
+
+bool fractureFamilyReachesBlock(const std::vector<FractureFamily>& families, std::size_t family, const Dims& dims,
+                                std::uint64_t seed) {
+    const FractureFamily& f = families[family];
+    const double count = fractureCount(f, dims);
+    const double size[3] = {double(dims.nx), double(dims.ny), double(dims.nz)};
+    Rng rng(familySeed(seed, family));
+    const Vec3d mean = poleFromOrientation(f.dipDirection, f.dip);
+    const double grow = drawMargin(f);
+    for (long n = 0; n < long(count); ++n) {
+        FractureDisc d;
+        double length = 0;
+        if (drawDisc(f, mean, grow, size, rng, d, length)) return true;
+    }
+    return false;
+}
+
 FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& families, const Dims& dims,
                                         std::uint64_t seed) {
     FractureNetwork net;
@@ -145,17 +186,8 @@ FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& famil
         for (long n = 0; n < long(count); ++n) {
             FractureDisc d;
             d.family = int(fi);
-            for (int ax = 0; ax < 3; ++ax)
-                d.centre[ax] = -0.5 - grow + (uniformOpen01(rng) - 0x1.0p-54) * (size[ax] + 2 * grow);
-            d.normal = sampleFisher(mean, f.kappa, rng);
-            const double length = samplePowerLaw(f.lengthExponent, f.minLength, f.maxLength, rng);
-            d.radius = 0.5 * length;
-            bool reaches = true;  // the disc's axis-aligned extent overlaps the block
-            for (int ax = 0; ax < 3; ++ax) {
-                const double extent = d.radius * std::sqrt(std::max(0.0, 1.0 - d.normal[ax] * d.normal[ax]));
-                reaches = reaches && d.centre[ax] + extent >= -0.5 && d.centre[ax] - extent <= size[ax] - 0.5;
-            }
-            if (!reaches) continue;
+            double length = 0;
+            if (!drawDisc(f, mean, grow, size, rng, d, length)) continue;
             ++st.count;
             lengthSum += length;
             areaSum += kPi * d.radius * d.radius;

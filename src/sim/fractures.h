@@ -76,6 +76,11 @@ double samplePowerLaw(double exponent, double lo, double hi, Rng& rng);
 /// E[π l² / 4] under that law: the mean disc area, voxels².
 double meanDiscArea(double exponent, double lo, double hi);
 
+/// Whether family `family` of `families`, drawn as generateFractureNetwork draws it from `seed`,
+/// keeps at least one disc that reaches the block (it stops at the first).
+bool fractureFamilyReachesBlock(const std::vector<FractureFamily>& families, std::size_t family, const Dims& dims,
+                                std::uint64_t seed);
+
 /// Fisher's estimate of kappa from unit vectors: (N − 1) / (N − |Σ n|) (0 for fewer than 2).
 double estimateKappa(const std::vector<Vec3d>& unitVectors);
 

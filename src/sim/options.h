@@ -158,6 +158,14 @@ struct Stage2Options {
     Hydrology hydrology;         ///< `[hydrology]`: the water table (none by default)
     /// `[[phase]]`: base-level phases run in order; when given, their iterations replace `iterations`
     std::vector<Stage2Phase> phases;
+
+    /// The iterations stage 2 runs: the phases' sum when `[[phase]]` entries are given, else `iterations`.
+    long totalIterations() const {
+        if (phases.empty()) return iterations;
+        long sum = 0;
+        for (const Stage2Phase& ph : phases) sum += ph.iterations;
+        return sum;
+    }
 };
 
 /// Speleothems (src/speleo/speleothems.h): stalactites grown on the drained cave's ceiling by

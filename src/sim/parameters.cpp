@@ -552,7 +552,8 @@ std::vector<ParamSection> makeRegistry() {
                 .rangeShown("[] or 4 column indices inside the top face, x0 ≤ x1, y0 ≤ y1"),
             integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many"),
             integer("radius", &RechargeSpec::radius, rng(0, 64),
-                    "sinkholes: each is a (2r+1)² × (r+1) box under the land surface, at least 2r+1 apart")
+                    "sinkholes: each is a (2r+1)² × (r+1) box under the land surface (2r+1 at most the area's sides, "
+                    "r+1 at most nz), at least 2r+1 apart")
                 .unitIs("voxels"),
             real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
                 .unitIs("voxels"),
@@ -702,7 +703,8 @@ std::vector<ParamSection> makeRegistry() {
                    "`pressure` / the largest source pressure whatever the field (docs/model.md)"),
             intList("snapshots", &Stage2Options::snapshots, rng(0, 1e6),
                     "iterations after which a picture of the state is written (`images/iter_NNNN.png`, combined in "
-                    "`images/sequence.png`: up to 6 frames a row, at most 8192 pixels wide)")
+                    "`images/sequence.png`: up to 6 frames a row, at most 8192 pixels wide); each from 1 to the run's "
+                    "iterations (with `[[phase]]` entries, theirs together)")
                 .unitIs("iterations")
                 .items(0, 32)
                 .shape("an array of iteration numbers")
@@ -752,12 +754,14 @@ std::vector<ParamSection> makeRegistry() {
                 .defaultShown("-1 ([hydrology])")
                 .rangeShown("-1, or 0 – nz − 1"),
             intList("sinks", &Stage2Phase::sinks, rng(1, 256),
-                    "the `[[sink]]` entries (1-based, in file order) that drain during this phase; empty = all")
+                    "the sinks that drain during this phase (1-based: the `[[sink]]` entries in file order, then a "
+                    "`[site]`'s springs); empty = all")
                 .items(0, 256)
                 .shape("an array of sink numbers")
                 .rangeShown("1 – number of sinks"),
             intList("sources", &Stage2Phase::sources, rng(1, 256),
-                    "the `[[source]]` entries (1-based, in file order) that inject during this phase; empty = all")
+                    "the sources that inject during this phase (1-based: the `[[source]]` entries in file order, then "
+                    "the `[[recharge]]` inputs, then a `[site]`'s sinkholes); empty = all")
                 .items(0, 256)
                 .shape("an array of source numbers")
                 .rangeShown("1 – number of sources"),
@@ -1043,6 +1047,8 @@ std::string rangeText(const Param& p) {
             return "–";
         case ParamType::kChoice:
             return choicesText(p);
+        case ParamType::kChoiceList:
+            return "distinct values out of " + choicesText(p);
         case ParamType::kInt:
         case ParamType::kInt3:
         case ParamType::kIntList:

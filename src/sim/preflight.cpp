@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "sim/fractures.h"
 #include "sim/recharge.h"
 #include "sim/stage1.h"
 
@@ -22,10 +23,18 @@ constexpr double kStage2DenseBytes = 22;     // water (double), rate (float), pr
 constexpr double kStage2ActiveBytes = 80;    // per voxel of an active tile: 9 doubles of transients, masks
 constexpr double kActiveShare = 0.6;  // share of the block's tiles that water reaches (fig10 k = 1…4: 0.4–0.5)
 constexpr double kOutputBytes = 40;   // the state grids as OpenVDB trees while state.vdb is written
+// Per stage-2 iteration: its history row, kept in memory and written to report.json (about 330 bytes
+// a row there) as a JSON tree. A 2 × 1 × 1 block: 119 MB peak at 20 000 iterations, 590 MB at 200 000.
+constexpr double kHistoryBytes = 2700;
 
 // Rough time: ns per voxel for the fixed work, ns per voxel-iteration of stage 2.
 constexpr double kFixedNs = 5000;
 constexpr double kIterationNs = 40;
+constexpr double kIterationFixedNs = 13000;  // per iteration whatever the block (2 voxels: 200 000 in 2.8 s)
+// Fracture families: ns per voxel a disc's slab visits (rasterised, then measured). Measured on a
+// 40³ block, 2 cores under load: 407 000 discs of 40 voxels, aperture 3, 12.1 s; 4 070 such discs
+// of aperture 10⁶ (each the whole block), 1.6 s.
+constexpr double kFractureVoxelNs = 6;
 constexpr double kLargestZone = 1.3;  // the largest zone against an equal share of the block (fig10 k = 1…3)
 
 // The speleothem stage (docs/speleothems.md, "Pre-flight", for the measurements).
@@ -71,6 +80,7 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
     }
     if (s.stage2.enabled) e.stage2Bytes = domain + kStage2DenseBytes * n + kActiveShare * kStage2ActiveBytes * n;
     e.outputBytes = domain + kOutputBytes * n;
+    if (s.stage2.enabled) e.outputBytes += kHistoryBytes * double(s.stage2.totalIterations());
     e.peakBytes = e.outputBytes;
     e.peakPhase = "output";
     if (e.stage1Bytes > e.peakBytes) {
@@ -81,7 +91,15 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
         e.peakBytes = e.stage2Bytes;
         e.peakPhase = "stage 2";
     }
-    e.seconds = n * kFixedNs * 1e-9 + (s.stage2.enabled ? n * double(s.stage2.iterations) * kIterationNs * 1e-9 : 0);
+    e.seconds =
+        n * kFixedNs * 1e-9 +
+        (s.stage2.enabled ? (n * kIterationNs + kIterationFixedNs) * double(s.stage2.totalIterations()) * 1e-9 : 0);
+    // A dense fracture network costs time before stage 1: each disc's slab (at most the block).
+    const Dims dims{s.size[0], s.size[1], s.size[2]};
+    for (const FractureFamily& f : s.fractureFamilies) {
+        const double slab = std::min(n, meanDiscArea(f.lengthExponent, f.minLength, f.maxLength) * (f.aperture + 1));
+        e.seconds += fractureCount(f, dims) * slab * kFractureVoxelNs * 1e-9;
+    }
     if (s.speleothems.enabled) {
         estimateSpeleothems(s, expectedCaveSurface(s), e);
         e.speleoBytes += domain;

@@ -50,6 +50,10 @@ std::size_t uniformIndex(Rng& rng, std::size_t n) {
     return std::size_t((static_cast<unsigned __int128>(rng()) * n) >> 64);
 }
 
+std::string kindName(RechargeKind kind) {
+    return kind == RechargeKind::kSinkholes ? "sinkholes" : kind == RechargeKind::kDiffuse ? "diffuse" : "stream";
+}
+
 struct Area {
     int x0, y0, x1, y1;
 };
@@ -231,6 +235,19 @@ void validateRecharge(const Scenario& s) {
                          std::to_string(kMaxSources) +
                          " sources allowed (stage 1 marches one zone per source): raise spacing or shrink the area");
         }
+        if (r.kind == RechargeKind::kSinkholes) {
+            // Each sinkhole is a (2r+1)² × (r+1) box: it must fit in its area and under the top face
+            // (it was silently cut to the block before).
+            const Area a = areaOf(s, r);
+            const int side = 2 * r.radius + 1;
+            if (side > a.x1 - a.x0 + 1 || side > a.y1 - a.y0 + 1 || r.radius + 1 > nz)
+                fail(s, r.line, &r.radius, std::to_string(r.radius),
+                     "a sinkhole of radius r is a (2r+1) × (2r+1) × (r+1) box, which must fit in its area [" +
+                         std::to_string(a.x0) + ", " + std::to_string(a.y0) + ", " + std::to_string(a.x1) + ", " +
+                         std::to_string(a.y1) + "] and in the block's " + std::to_string(nz) +
+                         " layers: must be at most " +
+                         std::to_string(std::max(0, std::min({(a.x1 - a.x0) / 2, (a.y1 - a.y0) / 2, nz - 1}))));
+        }
         bool fits = true;
         const std::vector<SourceSpec> part = expand(s, r, e, fits);
         if (!fits) {
@@ -257,7 +274,7 @@ void validateRecharge(const Scenario& s) {
         for (const SourceSpec& src : part)
             for (std::size_t j = 0; j < s.sinks.size(); ++j) {
                 if (boxesOverlap(src.box, s.sinks[j].box))
-                    fail(s, r.line, &r.kind, "(entry " + std::to_string(e + 1) + ")",
+                    fail(s, r.line, &r.kind, "\"" + kindName(r.kind) + "\" (entry " + std::to_string(e + 1) + ")",
                          "an input at [" + std::to_string(src.box.lo[0]) + ", " + std::to_string(src.box.lo[1]) + ", " +
                              std::to_string(src.box.lo[2]) + "] overlaps [[sink]] entry " + std::to_string(j + 1) +
                              " (line " + std::to_string(s.sinks[j].line) + "): a voxel cannot be both source and sink");
@@ -310,6 +327,12 @@ void validateFractureFamilies(const Scenario& s) {
             fail(
                 s, f.line, field, value,
                 "gives " + shortestText(count) + " fractures, at most 10⁶ are allowed: raise spacing or lower density");
+        const std::size_t index = std::size_t(&f - s.fractureFamilies.data());
+        if (!fractureFamilyReachesBlock(s.fractureFamilies, index, dims, s.seed))
+            fail(s, f.line, field, value,
+                 "the fracture family cannot fit: none of its " + shortestText(count) + " discs drawn with seed " +
+                     std::to_string(s.seed) + " reaches the block (" + block +
+                     "): lower spacing or raise density, or shorten max_length");
     }
 }
 

@@ -548,6 +548,18 @@ std::string where(const Scenario& s, int line) {
     return s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
 }
 
+/// A snapshot the run never reaches (0, or after its last iteration) would silently give no picture.
+void checkSnapshots(const Scenario& s, int line) {
+    if (!s.stage2.enabled) return;
+    const long total = s.stage2.totalIterations();
+    for (int it : s.stage2.snapshots)
+        if (it < 1 || it > total)
+            throw InputError(
+                where(s, line) + ": key '" + scenarioKey(s, &s.stage2.snapshots) + "' = " + std::to_string(it) +
+                ": a snapshot is taken after one of the run's stage-2 iterations, 1 to " + std::to_string(total) +
+                (s.stage2.phases.empty() ? std::string() : " (the [[phase]] iterations together)"));
+}
+
 }  // namespace
 
 Scenario parseScenarioTable(const toml::table& root, const std::string& sourceName) {
@@ -557,6 +569,8 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
     ParseContext ctx{s, sourceName};
     const ParamSection& topSection = scenarioParameters().front();
     readSection(topSection, root, top, &s, ctx);
+    const toml::node* snapshots = root.at_path("stage2.snapshots").node();
+    checkSnapshots(s, snapshots ? int(snapshots->source().begin.line) : 0);
     validateScenario(s);
     return s;
 }
@@ -569,7 +583,7 @@ void validateHydrology(const Scenario& s) {
     const auto checkLevel = [&](double level, const void* field, int line, const std::string& entry) {
         if (level == -1.0 || (level >= 0 && level <= nz - 1)) return;
         std::ostringstream os;
-        os << where(s, line) << ": key '" << scenarioKey(s, field) << "'" << entry << " = " << level
+        os << where(s, line) << ": key '" << scenarioKey(s, field) << "'" << entry << " = " << shortestText(level)
            << ": a water table must lie in the block, 0 to nz - 1 = " << nz - 1
            << " (voxel index units), or be -1 for none";
         throw InputError(os.str());
@@ -589,24 +603,41 @@ void validateHydrology(const Scenario& s) {
         const Stage2Phase& ph = phases[n];
         const std::string entry = " (entry " + std::to_string(n + 1) + ")";
         checkLevel(ph.waterTable, &ph.waterTable, ph.line, entry);
-        const auto checkIndices = [&](const std::vector<int>& list, const void* field, std::size_t count, bool fromSite,
-                                      const char* what) {
-            if (fromSite) return;  // a [site]'s sinkholes and springs are counted when the site is read
-            for (int x : list)
-                if (x < 1 || std::size_t(x) > count) {
-                    std::ostringstream os;
-                    os << where(s, ph.line) << ": key '" << scenarioKey(s, field) << "'" << entry << " names " << what
-                       << " " << x << ": the scenario has " << count << " [[" << what << "]] entries, numbered 1 to "
-                       << count << " in file order";
-                    throw InputError(os.str());
-                }
-        };
-        checkIndices(ph.sinks, &ph.sinks, s.sinks.size(), !s.site.springs.empty(), "sink");
-        checkIndices(ph.sources, &ph.sources, s.sources.size(), !s.site.sinkholes.empty(), "source");
     }
+    // A site's sinkholes and springs are numbered too: checked when the site is read.
+    const bool siteTerminals = !s.site.sinkholes.empty() || !s.site.springs.empty();
+    if (!siteTerminals || s.siteData) validatePhaseTerminals(s);
 }
 
 }  // namespace
+
+void validatePhaseTerminals(const Scenario& s) {
+    if (s.stage2.phases.empty()) return;
+    const std::size_t given = s.sources.size(), recharge = rechargeSources(s).size();
+    const std::size_t siteSources = s.siteData ? s.siteData->sources.size() : 0;
+    const std::size_t siteSinks = s.siteData ? s.siteData->sinks.size() : 0;
+    const std::size_t sources = given + recharge + siteSources, sinks = s.sinks.size() + siteSinks;
+    for (std::size_t n = 0; n < s.stage2.phases.size(); ++n) {
+        const Stage2Phase& ph = s.stage2.phases[n];
+        const auto check = [&](const std::vector<int>& list, const void* field, std::size_t count, const char* what,
+                               const std::string& numbering) {
+            for (int x : list)
+                if (x < 1 || std::size_t(x) > count) {
+                    std::ostringstream os;
+                    os << where(s, ph.line) << ": key '" << scenarioKey(s, field) << "' (entry " << n + 1 << ") names "
+                       << what << " " << x << ": the run has " << count << " " << what << "s, numbered 1 to " << count
+                       << " (" << numbering << ")";
+                    throw InputError(os.str());
+                }
+        };
+        check(ph.sinks, &ph.sinks, sinks, "sink",
+              std::to_string(s.sinks.size()) + " [[sink]] entries in file order, then " + std::to_string(siteSinks) +
+                  " [site] springs");
+        check(ph.sources, &ph.sources, sources, "source",
+              std::to_string(given) + " [[source]] entries in file order, then " + std::to_string(recharge) +
+                  " [[recharge]] inputs, then " + std::to_string(siteSources) + " [site] sinkholes");
+    }
+}
 
 bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
     for (int c = 0; c < 3; ++c)
@@ -615,6 +646,13 @@ bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
 }
 
 void validateScenario(const Scenario& s) {
+    // Checks the reader makes across keys, again for a scenario changed after reading (an ensemble's
+    // --vary): p_rate_channel at most p_rate, snapshots the run reaches.
+    if (s.stage2.pRateChannel > s.stage2.pRate)
+        throw InputError(s.path + ": key '" + scenarioKey(s, &s.stage2.pRateChannel) + "' = " +
+                         shortestText(s.stage2.pRateChannel) + ": must not exceed " + scenarioKey(s, &s.stage2.pRate) +
+                         " (" + shortestText(s.stage2.pRate) + "): channels resist flow less than rock");
+    checkSnapshots(s, 0);
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
     const ParamSection& sink = sectionOf([](Scenario& p) { return &p.sinks[0].box; });
     const auto checkInside = [&](const ParamSection& section, const VoxelBox& box, int line, std::size_t i) {
@@ -646,8 +684,8 @@ void validateScenario(const Scenario& s) {
                     dist = std::max({dist, double(s.sinks[j].box.lo[c]) - p[c], p[c] - double(s.sinks[j].box.hi[c])});
                 if (dist > s.stage1.sinkGap) continue;
                 std::ostringstream os;
-                os << s.path << ": key '" << scenarioKey(s, &s.stage1.aim) << "' point " << a + 1 << " = [" << p[0]
-                   << ", " << p[1] << ", " << p[2] << "] lies "
+                os << s.path << ": key '" << scenarioKey(s, &s.stage1.aim) << "' point " << a + 1 << " = ["
+                   << shortestText(p[0]) << ", " << shortestText(p[1]) << ", " << shortestText(p[2]) << "] lies "
                    << (dist <= 0 ? std::string("inside") : "within " + std::to_string(s.stage1.sinkGap) + " voxels of")
                    << " " << sink.header() << " entry " << j + 1 << " (line " << s.sinks[j].line
                    << "): an aim point must be more than '" << scenarioKey(s, &s.stage1.sinkGap)

@@ -25,6 +25,14 @@ Scenario parseScenarioString(std::string_view text, const std::string& sourceNam
 /// @throw InputError naming the offending entry
 void validateScenario(const Scenario& scenario);
 
+/// Checks that every `[[phase]]` `sources` and `sinks` number names a source or sink of the run:
+/// sources are numbered 1… over the `[[source]]` entries in file order, then the `[[recharge]]`
+/// inputs, then a `[site]`'s sinkholes; sinks over the `[[sink]]` entries, then the site's springs
+/// (the order stage 2 sees them). A scenario whose site has sinkholes or springs is checked once the
+/// site is read (site::loadSite); validateScenario checks the others.
+/// @throw InputError naming the phase's line, the key and the number
+void validatePhaseTerminals(const Scenario& scenario);
+
 /// Whether two boxes (inclusive voxel indices) share a voxel.
 bool boxesOverlap(const VoxelBox& a, const VoxelBox& b);
 

@@ -56,6 +56,12 @@ std::string trim(const std::string& t) {
     return t.substr(a, t.find_last_not_of(" \t\r\n") - a + 1);
 }
 
+/// Drops the UTF-8 byte order mark that spreadsheet programs put before a file's first line
+/// (read as part of the first field, it made an XYZ file's first point look like a header).
+void stripByteOrderMark(std::string& line, int lineNo) {
+    if (lineNo == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+}
+
 bool parseNumber(const std::string& t, double& out) {
     const std::string x = trim(t);
     if (x.empty()) return false;
@@ -95,6 +101,7 @@ std::vector<std::array<double, 3>> readXyz(const std::string& what, const std::s
     int lineNo = 0;
     while (std::getline(in, line)) {
         ++lineNo;
+        stripByteOrderMark(line, lineNo);
         std::string t = trim(line);
         if (t.empty() || t[0] == '#') continue;
         std::replace(t.begin(), t.end(), ',', ' ');
@@ -161,6 +168,7 @@ std::vector<SitePoint> readPoints(const std::string& what, const std::string& pa
     };
     while (std::getline(in, line)) {
         ++lineNo;
+        stripByteOrderMark(line, lineNo);
         const std::string t = trim(line);
         if (t.empty() || t[0] == '#') continue;
         if (cols.empty()) {
@@ -432,6 +440,11 @@ void loadSite(Scenario& s) {
                 throw InputError(at + ": the land surface (" + num(land) +
                                  " m) is below every voxel centre of its column");
         }
+        // A voxel below the base of the limestone is inert (holds no water, never eroded): no place
+        // for a source or sink.
+        if (!data->baseOfLimestone.empty() && b.lo[2] + (k + 0.5) * b.h < data->baseOfLimestone[col])
+            throw InputError(at + (p.hasZ ? "" : " (on the land surface)") + " lies below the base of the limestone (" +
+                             num(data->baseOfLimestone[col]) + " m there): its voxel is insoluble rock");
         return VoxelBox{{i, j, k}, {i, j, k}};
     };
     if (!s.site.sinkholes.empty()) {
@@ -473,6 +486,7 @@ void loadSite(Scenario& s) {
     s.siteData = std::move(data);
     // [[recharge]] sits on the land surface: checked again now that the DEM places it.
     if (!s.recharge.empty()) validateRecharge(s);
+    validatePhaseTerminals(s);  // phases may name the site's sinkholes and springs
 #endif
 }
 

@@ -149,3 +149,17 @@ TEST(App, ValidateSummaryNamesTheGrid) {
     EXPECT_NE(line.find("ok: scenario 'small', grid 20 x 12 x 8"), std::string::npos) << line;
     EXPECT_NE(line.find("2 source(s), 1 sink(s)"), std::string::npos) << line;
 }
+
+TEST(App, ValidateSummaryCountsPhasesAndSiteTerminals) {
+    // The phases' iterations replace [stage2] iterations; a [site]'s sinkholes and springs are
+    // sources and sinks too (the summary once said "0 source(s), 0 sink(s)" for them).
+    const fs::path dir = scratch("site_summary");
+    fs::create_directories(dir);
+    std::ofstream(dir / "sinkholes.csv") << "x,y,name\n2.5,3.5,A\n7.5,3.5,B\n";
+    std::ofstream(dir / "springs.csv") << "x,y,z,name\n19.5,5.5,2.5,S\n";
+    std::ofstream(dir / "v.toml") << "name = \"s\"\n[domain]\nsize = [20, 12, 8]\n[stage2]\niterations = 40\n"
+                                     "[[phase]]\niterations = 3\n[[phase]]\niterations = 4\n"
+                                     "[site]\nsinkholes = \"sinkholes.csv\"\nsprings = \"springs.csv\"\n";
+    const std::string line = app::validateSummary((dir / "v.toml").string());
+    EXPECT_NE(line.find("2 source(s), 1 sink(s), stage 1 on, stage 2 7 iterations"), std::string::npos) << line;
+}

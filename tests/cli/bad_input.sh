@@ -50,7 +50,12 @@ stderr_has "phase_empty.toml:1: key 'phase' = []: an empty list"
 refused_after_good phase_zero "phase with zero iterations" '[[phase]]\niterations = 0\n'
 stderr_has "phase.iterations' = 0"
 refused_after_good phase_sink "phase sink out of range" '[[phase]]\niterations = 10\nsinks = [2]\n'
-stderr_has "key 'phase.sinks' (entry 1) names sink 2: the scenario has 1 [[sink]] entries"
+stderr_has "key 'phase.sinks' (entry 1) names sink 2: the run has 1 sinks, numbered 1 to 1 (1 [[sink]] entries in file order, then 0 [site] springs)"
+# Phase sources are numbered over the [[source]] entries, then the [[recharge]] inputs: a phase that
+# lists sources could once only name [[source]] entries, and silently switched the recharge off.
+refused_after_good phase_recharge "phase source beyond the recharge inputs" \
+  '[[recharge]]\nkind = "stream"\npoints = [[8, 0, 11], [12, 0, 11]]\n[[phase]]\niterations = 10\nsources = [4]\n'
+stderr_has "key 'phase.sources' (entry 1) names source 4: the run has 3 sources, numbered 1 to 3 (1 [[source]] entries in file order, then 2 [[recharge]] inputs, then 0 [site] sinkholes)"
 refused_after_good phase_table "phase water table below the block" '[[phase]]\niterations = 10\nwater_table = -3\n'
 stderr_has "phase.water_table' = -3"
 refused_after_good phase_high "phase water table above the block" '[[phase]]\niterations = 10\nwater_table = 30\n'
@@ -58,6 +63,15 @@ stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in th
 refused_after_good table_site "water table from a site without one" '[hydrology]\nfrom_site = true\n'
 stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
 [ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
+sed 's/^sources = \[4\]/sources = [3]/' phase_recharge.toml > phase_recharge_ok.toml
+expect_exit 0 "a phase that names a recharge input" -- "$CAVESIM" run phase_recharge_ok.toml --out o17 -q
+python3 - <<'PY' && pass "only the named recharge input injects" || fail "phase sources over recharge inputs"
+import json
+s = json.load(open("o17/report.json"))["stage2"]
+w = s["source_water_injected"]
+assert s["phases"][0]["sources"] == [3], s["phases"][0]["sources"]
+assert w[0] == 0 and w[1] == 0 and w[2] > 0, w
+PY
 
 printf 'name = "x"\n[domain\n' > malformed.toml
 expect_exit 2 "malformed TOML" -- "$CAVESIM" validate malformed.toml
@@ -159,6 +173,26 @@ stderr_has "key 'rock.fracture_family.spacing' = 30: the fracture family cannot 
 sed 's/^min_length = 40.0/kappa = 0.0/' frac_long.toml > frac_kappa.toml
 expect_exit 2 "fracture kappa zero" -- "$CAVESIM" validate frac_kappa.toml
 stderr_has "key 'rock.fracture_family.kappa' = 0.0: must be a number in (0,"
+# A family whose drawn discs all miss the block (seed 1 here) cannot fit either: it once ran with
+# no fracture and reported a mean dip of 0.
+cat > frac_none.toml <<'TOML'
+seed = 1
+[domain]
+size = [20, 2, 2]
+[[rock.fracture_family]]
+spacing = 20
+min_length = 20
+max_length = 20
+dip = 0
+kappa = 1000
+[[source]]
+at = [0, 0, 1]
+[stage2]
+enabled = false
+TOML
+expect_exit 2 "fracture family with no disc in the block" -- "$CAVESIM" run frac_none.toml --out o18
+stderr_has "frac_none.toml:4: key 'rock.fracture_family.spacing' = 20: the fracture family cannot fit: none of its 3 discs drawn with seed 1 reaches the block"
+[ ! -e o18 ] && pass "no output for a family with no disc" || fail "o18 was created"
 grep -v -e '^\[\[source\]\]' -e '^at = ' good.toml > recharge_out.toml
 cat >> recharge_out.toml <<'TOML'
 [[recharge]]
@@ -173,6 +207,20 @@ sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0,
   recharge_out.toml > stream_out.toml
 expect_exit 2 "stream outside the block" -- "$CAVESIM" validate stream_out.toml
 stderr_has "key 'recharge.points' = [[1, 0, 11], [18, 0, 11]]: recharge outside the land surface"
+# A sinkhole box that does not fit its area or the block's height (it was cut to the block), and
+# recharge on a sink (the message names the kind).
+sed -e 's/^area = .*/area = [2, 0, 12, 0]/' -e 's/^count = 2/count = 1\nradius = 1/' recharge_out.toml > sinkhole_wide.toml
+expect_exit 2 "sinkhole wider than its area" -- "$CAVESIM" validate sinkhole_wide.toml
+stderr_has "key 'recharge.radius' = 1: a sinkhole of radius r is a (2r+1) × (2r+1) × (r+1) box, which must fit in its area [2, 0, 12, 0]"
+sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[11.0, 0.0, 11.0], [15.0, 0.0, 11.0]]/' \
+  recharge_out.toml > stream_sink.toml
+expect_exit 2 "stream onto a sink" -- "$CAVESIM" validate stream_sink.toml
+stderr_has "key 'recharge.kind' = \"stream\" (entry 1): an input at [15, 0, 11] overlaps [[sink]] entry 1"
+# A snapshot the run never reaches would give no picture: refused, with the line.
+sed 's/^iterations = 30/iterations = 30\nsnapshots = [10, 31]/' good.toml > snap_late.toml
+expect_exit 2 "snapshot after the last iteration" -- "$CAVESIM" run snap_late.toml --out o16
+stderr_has "snap_late.toml:17: key 'stage2.snapshots' = 31: a snapshot is taken after one of the run's stage-2 iterations, 1 to 30"
+[ ! -e o16 ] && pass "no output for an unreachable snapshot" || fail "o16 was created"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"

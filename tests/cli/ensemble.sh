@@ -67,6 +67,13 @@ expect_exit 2 "unknown --vary key" -- "$CAVESIM" ensemble t.toml --members 2 --o
 stderr_has "stage2.nope"
 expect_exit 2 "--vary outside the key's range" -- "$CAVESIM" ensemble t.toml --members 2 --out e4 --vary stage2.w0=-1:2
 expect_exit 2 "--vary of the grid" -- "$CAVESIM" ensemble t.toml --members 2 --out e4 --vary domain.voxel_size=1:2
+# Draws that break a rule across keys (p_rate_channel at most p_rate; a snapshot the run reaches)
+# were "internal error" member failures; now the command refuses them before writing anything.
+expect_exit 2 "--vary drawing p_rate_channel above p_rate" -- "$CAVESIM" ensemble t.toml --members 2 --out e4 --vary stage2.p_rate_channel=0.4:0.6
+stderr_has "member 1: t.toml: key 'stage2.p_rate_channel' = 0.5693764497354293: must not exceed stage2.p_rate (0.5)"
+sed 's/^iterations = 40/iterations = 40\nsnapshots = [30]/' t.toml > snap.toml
+expect_exit 2 "--vary of iterations below a snapshot" -- "$CAVESIM" ensemble snap.toml --members 3 --out e4 --vary stage2.iterations=10:50
+stderr_has "key 'stage2.snapshots' = 30: a snapshot is taken after one of the run's stage-2 iterations, 1 to"
 mkdir -p busy && echo hi > busy/file
 expect_exit 2 "a non-empty folder that is no ensemble" -- "$CAVESIM" ensemble t.toml --members 2 --out busy
 [ ! -e e4 ] && pass "nothing written for bad requests" || fail "e4 written"

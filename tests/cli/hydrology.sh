@@ -86,4 +86,13 @@ assert p2["cave_voxels_below_table"] > 100 and p2["cave_box_below_table"]["hi"][
 assert p2["cave_box_above_table"]["lo"][2] <= 10 and p2["cave_box_above_table"]["hi"][2] >= 30
 assert a["water_balance_rel_error"] < 1e-9
 PY
+# validate counts the phases' iterations (they replace [stage2] iterations), and a level just off
+# the block is shown as given.
+{ section 5 28 0 4; printf '[[phase]]\niterations = 7\n[[phase]]\niterations = 5\n'; } > phased.toml
+expect_exit 0 "validate a phased scenario" -- "$CAVESIM" validate phased.toml
+grep -q "stage 2 12 iterations" stdout.txt && pass "validate sums the phases' iterations" ||
+  fail "validate summary: $(cat stdout.txt)"
+section 29.0000001 28 0 4 > offblock.toml
+expect_exit 2 "a water table just above the block" -- "$CAVESIM" validate offblock.toml
+stderr_has "water_table' = 29.0000001:"
 finish

@@ -61,4 +61,15 @@ expect_exit 0 "--out with a trailing slash" -- "$CAVESIM" run s.toml --out slash
 expect_exit 0 "--out with a trailing /." -- "$CAVESIM" run s.toml --out slash2/. -q
 expect_exit 0 "--out with a trailing slash and --force over a run" -- "$CAVESIM" run s.toml --out slash/ --force -q
 [ -f slash/report.json ] && [ -f slash2/report.json ] && pass "written into slash/ and slash2/" || fail "trailing slash: $(ls)"
+# An empty --out (an unset variable) is refused; it once wrote to out/<name> instead.
+expect_exit 2 "an empty --out" -- "$CAVESIM" run s.toml --out "" -q
+stderr_has "--out: an empty path"
+[ ! -e out ] && pass "nothing written for an empty --out" || fail "out/ was created"
+expect_exit 2 "an empty ensemble --out" -- "$CAVESIM" ensemble s.toml --members 1 --out ""
+# A name longer than the file system allows is refused before the run (it failed when the results
+# were moved into place, exit 1, after all the work).
+toolong=$(printf 'n%.0s' $(seq 256))
+expect_exit 2 "a 256-byte --out name" -- "$CAVESIM" run s.toml --out "sub/$toolong" -q
+stderr_has "has 256 bytes; the file system allows at most 255"
+[ ! -e sub ] && pass "nothing created for a name too long" || fail "sub/ was created"
 finish

@@ -54,6 +54,18 @@ TEST(FormatSet, ParsesListsAllAndNone) {
     EXPECT_EQ(parseFormatSet(toString(all)), all);
 }
 
+TEST(FormatSet, NoneStandsAlone) {
+    // "all,none" once gave every format and "glb,none" gave glb: none beside others means nothing.
+    for (const char* list : {"all,none", "none,glb", "glb, none"}) {
+        try {
+            parseFormatSet(list);
+            ADD_FAILURE() << list;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("\"none\" stands alone"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(FormatSet, RejectsUnknownAndEmptyEntries) {
     try {
         parseFormatSet("glb,obj");

@@ -84,6 +84,48 @@ TEST(Fractures, FisherSamplesMeasureBackMeanAndKappa) {
     }
 }
 
+TEST(Fractures, FisherSamplesOfTinyKappaAreUniform) {
+    // κ → 0 is the uniform distribution on the sphere: cos θ uniform in [−1, 1], mean 0, variance 1/3.
+    // (e^(−2κ) rounding to 1 once put every pole on the mean pole.)
+    const Vec3d mean = poleFromOrientation(0, 90);
+    for (double kappa : {1e-300, 1e-17, 1e-9, 1e-4}) {
+        Rng rng(familySeed(3, 1));
+        double sum = 0, sumSq = 0;
+        const int n = 40000;
+        for (int i = 0; i < n; ++i) {
+            const Vec3d p = sampleFisher(mean, kappa, rng);
+            const double c = p[0] * mean[0] + p[1] * mean[1] + p[2] * mean[2];
+            sum += c;
+            sumSq += c * c;
+        }
+        EXPECT_NEAR(sum / n, 0.0, 0.02) << "kappa " << kappa;
+        EXPECT_NEAR(sumSq / n, 1.0 / 3.0, 0.02) << "kappa " << kappa;
+    }
+}
+
+TEST(Fractures, ReachesBlockAgreesWithTheNetwork) {
+    // A 20 × 2 × 2 block and 20-voxel discs: about 3 are drawn in the grown box and often none
+    // reaches the block (the run once went on with an empty family and a mean dip of 0).
+    FractureFamily f;
+    f.spacing = 20;
+    f.minLength = f.maxLength = 20;
+    f.dip = 0;
+    f.kappa = 1000;
+    const std::vector<FractureFamily> families{f, f};
+    const Dims dims{20, 2, 2};
+    int empty = 0, kept = 0;
+    for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+        const FractureNetwork net = generateFractureNetwork(families, dims, seed);
+        for (std::size_t fi = 0; fi < families.size(); ++fi) {
+            const bool reaches = fractureFamilyReachesBlock(families, fi, dims, seed);
+            EXPECT_EQ(reaches, net.families[fi].count > 0) << "seed " << seed << " family " << fi;
+            (reaches ? kept : empty) += 1;
+        }
+    }
+    EXPECT_GT(empty, 0);
+    EXPECT_GT(kept, 0);
+}
+
 TEST(Fractures, PowerLawLengthsFitTheirExponent) {
     for (double a : {1.5, 2.5, 3.5}) {
         Rng rng(5);

@@ -221,6 +221,58 @@ TEST_F(SiteTest, MissingFilesAndMalformedCsvAreRefused) {
     EXPECT_NE(error(s).find("bad2.csv:2: y = 'north' is not a number"), std::string::npos);
 }
 
+// A sinkhole or spring in the insoluble rock below the base of the limestone (an inert voxel that
+// holds no water) is refused; a UTF-8 byte order mark before a CSV header or an XYZ file's first
+// point is read as nothing.
+TEST_F(SiteTest, PointsInInsolubleRockAndByteOrderMarks) {
+    Scenario s = scenario();
+    s.site.baseOfLimestone = text("base.xyz",
+                                  "\xEF\xBB\xBF"
+                                  "500000 4000000 125\n500100 4000000 125\n500000 4000100 125\n");
+    s.site.sinkholes = text("sinkholes.csv", "\xEF\xBB\xBFx,y,z,name\n500035,4000025,111,Low\n");
+    std::string e = error(s);
+    EXPECT_NE(e.find("sinkholes.csv:2: sinkhole 'Low' at x = 500035, y = 4000025, z = 111 m lies below the base of the "
+                     "limestone (125 m there): its voxel is insoluble rock"),
+              std::string::npos)
+        << e;
+    s.site.sinkholes = text("sinkholes2.csv", "\xEF\xBB\xBFx,y,z,name\n500035,4000025,131,Ok\n");
+    EXPECT_EQ(error(s), "");
+    site::loadSite(s);
+    ASSERT_TRUE(s.siteData);
+    ASSERT_EQ(s.siteData->sources.size(), 1u);
+    EXPECT_EQ(s.siteData->sources[0].box.lo, (std::array<int, 3>{3, 2, 3}));
+    // The first point counts: the base is 125 m everywhere (the BOM once dropped it, leaving 2 points).
+    for (double z : s.siteData->baseOfLimestone) EXPECT_NEAR(z, 125.0, 1e-9);
+}
+
+// A phase names the site's sinkholes and springs after the [[source]] and [[sink]] entries; a number
+// past them is refused once the site is read (it once ran the phase with no source and no sink).
+TEST_F(SiteTest, PhaseTerminalsCountTheSitesSinkholesAndSprings) {
+    Scenario s = scenario();
+    s.site.sinkholes = text("sinkholes.csv", "x,y,name\n500035,4000025,A\n500055,4000025,B\n");
+    s.site.springs = text("springs.csv", "x,y,z,name\n500075,4000045,105,S\n");
+    Stage2Phase ph;
+    ph.iterations = 5;
+    ph.line = 7;
+    ph.sources = {2};
+    ph.sinks = {1};
+    s.stage2.phases = {ph};
+    EXPECT_EQ(error(s), "");
+    s.stage2.phases[0].sinks = {2};
+    std::string e = error(s);
+    EXPECT_NE(e.find(":7: key 'phase.sinks' (entry 1) names sink 2: the run has 1 sinks, numbered 1 to 1 (0 [[sink]] "
+                     "entries in file order, then 1 [site] springs)"),
+              std::string::npos)
+        << e;
+    s.stage2.phases[0].sinks = {};
+    s.stage2.phases[0].sources = {3};
+    e = error(s);
+    EXPECT_NE(e.find("names source 3: the run has 2 sources, numbered 1 to 2 (0 [[source]] entries in file order, then "
+                     "0 [[recharge]] inputs, then 2 [site] sinkholes)"),
+              std::string::npos)
+        << e;
+}
+
 TEST_F(SiteTest, NoSiteFilesChangeNothing) {
     Scenario s = scenario();
     site::loadSite(s);
