@@ -45,6 +45,11 @@ struct P : Param {
         shapeText = std::move(t);
         return std::move(*this);
     }
+    P&& appliesWhen(std::function<bool(const void*)> f, std::string reason) && {
+        applies = std::move(f);
+        notApplicable = std::move(reason);
+        return std::move(*this);
+    }
 };
 
 ParamRange rng(double lo, double hi, const char* ends = "[]", bool domainScaled = false) {
@@ -537,6 +542,9 @@ std::vector<ParamSection> makeRegistry() {
     sink.limitReason = "one [[sink]] may be a box of many voxels";
     sink.setLine = [](void* r, int line) { static_cast<SinkSpec*>(r)->line = line; };
 
+    const auto isSinkholes = [](const void* rec) {
+        return static_cast<const RechargeSpec*>(rec)->kind == RK::kSinkholes;
+    };
     ParamSection& recharge = r.emplace_back(tableArray(
         "recharge", &Scenario::recharge, 64, "sinkholes, diffuse recharge, sinking streams",
         {
@@ -550,11 +558,13 @@ std::vector<ParamSection> makeRegistry() {
                 .items(0, 4)
                 .shape("[] or [x0, y0, x1, y1]")
                 .rangeShown("[] or 4 column indices inside the top face, x0 ≤ x1, y0 ≤ y1"),
-            integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many"),
+            integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many")
+                .appliesWhen(isSinkholes, "only sinkholes take a count; leave it out for this kind"),
             integer("radius", &RechargeSpec::radius, rng(0, 64),
                     "sinkholes: each is a (2r+1)² × (r+1) box under the land surface (2r+1 at most the area's sides, "
                     "r+1 at most nz), at least 2r+1 apart")
-                .unitIs("voxels"),
+                .unitIs("voxels")
+                .appliesWhen(isSinkholes, "only sinkholes take a radius; leave it out for this kind"),
             real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
                 .unitIs("voxels"),
             real("pressure", &RechargeSpec::pressure, rng(0, 1e6, "(]"),
@@ -574,7 +584,8 @@ std::vector<ParamSection> makeRegistry() {
         "site's sinkholes; everything downstream sees sources. Together with the `[[source]]` entries and a\n"
         "site's sinkholes at most 256 sources. Recharge outside the top face's columns, on a column the DEM\n"
         "leaves all air, sinkholes that do not fit in their area, or an input on a sink or a spring is an\n"
-        "error (docs/geology.md).";
+        "error (docs/geology.md). A key of another kind is an error too: `count` or `radius` on a stream or\n"
+        "diffuse entry, `points` on sinkholes or diffuse, `area` on a stream.";
     recharge.setLine = [](void* r, int line) { static_cast<RechargeSpec*>(r)->line = line; };
 
     const std::vector<ParamChoice> faces{{"-x", int(GF::kMinusX)}, {"+x", int(GF::kPlusX)},  {"-y", int(GF::kMinusY)},

@@ -507,6 +507,10 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
         readParam(r, section, p, record, ctx);
         known.push_back(p.key);
     }
+    // A key given where it does not apply (a sinkholes-only key on a stream) would be ignored.
+    for (const Param& p : section.params)
+        if (p.applies && !p.applies(record))
+            if (const toml::node* n = table.get(p.key)) r.fail(p.key, n, p.notApplicable);
     for (const ParamSection& child : scenarioParameters()) {
         const std::string prefix = section.path.empty() ? "" : section.path + ".";
         if (child.path.empty() || child.path.compare(0, prefix.size(), prefix) != 0 ||
@@ -855,7 +859,8 @@ toml::table scenarioTable(const Scenario& s, bool everyTable) {
             toml::array entries;
             for (std::size_t i = 0; i < n; ++i) {
                 toml::table t;
-                for (const Param& p : section.params) insertValue(t, p, p.get(section.record(s, i)));
+                for (const Param& p : section.params)
+                    if (!p.applies || p.applies(section.record(s, i))) insertValue(t, p, p.get(section.record(s, i)));
                 entries.push_back(std::move(t));
             }
             parent.insert(section.path.substr(dot == std::string::npos ? 0 : dot + 1), std::move(entries));

@@ -204,7 +204,7 @@ expect_exit 2 "recharge outside the land surface" -- "$CAVESIM" run recharge_out
 stderr_has "key 'recharge.area' = [0, 0, 20, 0]: recharge outside the land surface"
 [ ! -e o15 ] && pass "no output for recharge outside the land surface" || fail "o15 was created"
 sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0, 0.0, 11.0], [18.0, 0.0, 11.0]]/' \
-  recharge_out.toml > stream_out.toml
+  -e '/^count = /d' recharge_out.toml > stream_out.toml
 expect_exit 2 "stream outside the block" -- "$CAVESIM" validate stream_out.toml
 stderr_has "key 'recharge.points' = [[1, 0, 11], [18, 0, 11]]: recharge outside the land surface"
 # A sinkhole box that does not fit its area or the block's height (it was cut to the block), and
@@ -213,9 +213,19 @@ sed -e 's/^area = .*/area = [2, 0, 12, 0]/' -e 's/^count = 2/count = 1\nradius =
 expect_exit 2 "sinkhole wider than its area" -- "$CAVESIM" validate sinkhole_wide.toml
 stderr_has "key 'recharge.radius' = 1: a sinkhole of radius r is a (2r+1) × (2r+1) × (r+1) box, which must fit in its area [2, 0, 12, 0]"
 sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[11.0, 0.0, 11.0], [15.0, 0.0, 11.0]]/' \
-  recharge_out.toml > stream_sink.toml
+  -e '/^count = /d' recharge_out.toml > stream_sink.toml
 expect_exit 2 "stream onto a sink" -- "$CAVESIM" validate stream_sink.toml
 stderr_has "key 'recharge.kind' = \"stream\" (entry 1): an input at [15, 0, 11] overlaps [[sink]] entry 1"
+# A sinkholes-only key on another kind would be ignored: refused with its own line.
+sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0, 0.0, 11.0], [8.0, 0.0, 11.0]]/' \
+  recharge_out.toml > stream_count.toml
+count_line=$(grep -n '^count = ' stream_count.toml | cut -d: -f1)
+expect_exit 2 "count on a stream" -- "$CAVESIM" run stream_count.toml --out o19
+stderr_has "stream_count.toml:$count_line: key 'recharge.count' = 2: only sinkholes take a count"
+[ ! -e o19 ] && pass "no output for count on a stream" || fail "o19 was created"
+sed -e 's/^kind = "sinkholes"/kind = "diffuse"/' -e 's/^count = 2/radius = 0/' recharge_out.toml > diffuse_radius.toml
+expect_exit 2 "radius on diffuse recharge" -- "$CAVESIM" validate diffuse_radius.toml
+stderr_has "key 'recharge.radius' = 0: only sinkholes take a radius"
 # A snapshot the run never reaches would give no picture: refused, with the line.
 sed 's/^iterations = 30/iterations = 30\nsnapshots = [10, 31]/' good.toml > snap_late.toml
 expect_exit 2 "snapshot after the last iteration" -- "$CAVESIM" run snap_late.toml --out o16

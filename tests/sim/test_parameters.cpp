@@ -138,10 +138,13 @@ TEST(Parameters, EveryKeyRoundTripsWithANonDefaultValue) {
     for (const ParamSection& sec : scenarioParameters()) {
         ASSERT_EQ(sec.count(back), sec.count(s)) << sec.path;
         for (std::size_t i = 0; i < sec.count(s); ++i)
-            for (const Param& p : sec.params)
+            for (const Param& p : sec.params) {
+                // A key that does not apply to its entry (a sinkhole's count on a stream) is not written.
+                if (p.applies && !p.applies(sec.record(s, i))) continue;
                 EXPECT_EQ(p.get(sec.record(back, i)), p.get(sec.record(s, i)))
                     << sec.qualified(p.key) << " = " << paramValueText(p.get(sec.record(s, i))) << " in\n"
                     << text;
+            }
     }
     EXPECT_EQ(scenarioToToml(back), text);
 }
