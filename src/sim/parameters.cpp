@@ -750,7 +750,10 @@ std::vector<ParamSection> makeRegistry() {
     hydro.prose =
         "A water table divides the block into a vadose zone above it, where water is not pressurised and\n"
         "moves down under gravity (shafts and canyons), and a phreatic zone below, where the paper's\n"
-        "pressure model holds. Without it (the default) stage 2 is the paper's model unchanged.";
+        "pressure model holds. Without it (the default) stage 2 is the paper's model unchanged. A key the\n"
+        "run would ignore is an error: any key away from its default while stage 2 is off, and `dip`,\n"
+        "`dip_direction` or `vadose_lateral` away from their defaults when no water table is set (here, by\n"
+        "`from_site`, or by a `[[phase]]`).";
 
     ParamSection& phase = r.emplace_back(tableArrayOf(
         "phase", phases, 64, "base-level phases",
@@ -780,7 +783,8 @@ std::vector<ParamSection> makeRegistry() {
     phase.prose =
         "Base-level phases run in file order in stage 2, each with its own water table and active sinks\n"
         "and sources; when given, their iterations replace `[stage2] iterations`. A falling water table\n"
-        "leaves the passages of an earlier phase vadose (or dry) and grows a lower level. At most 64.";
+        "leaves the passages of an earlier phase vadose (or dry) and grows a lower level. At most 64;\n"
+        "an error while stage 2 is off.";
     phase.setLine = [](void* r, int line) { static_cast<Stage2Phase*>(r)->line = line; };
     phase.exampleCommented = true;
     phase.nonEmpty = true;

@@ -286,6 +286,7 @@ std::pair<const ParamSection*, const Param*> probeParam(F pick) {
         p.sources.resize(1);
         p.sinks.resize(1);
         p.recharge.resize(1);
+        p.stage2.phases.resize(1);
         return p;
     }();
     return findParam(probe, pick(probe));
@@ -564,6 +565,51 @@ void checkSnapshots(const Scenario& s, int line) {
                 (s.stage2.phases.empty() ? std::string() : " (the [[phase]] iterations together)"));
 }
 
+/// `[hydrology]` and `[[phase]]` keys the run would ignore: a phase, or a `[hydrology]` key away from
+/// its default, with stage 2 off; the table's shape keys (dip, its direction, the vadose drift) away
+/// from their defaults when no water table is set anywhere. Only keys the file gives are refused, and
+/// a key at its default changes nothing (the example scenario lists every key at its default).
+void checkStage2Tables(const toml::table& root, const Scenario& s) {
+    const Hydrology& h = s.stage2.hydrology;
+    const ParamSection& hydro = sectionOf([](Scenario& p) { return &p.stage2.hydrology.dip; });
+    const ParamSection& phase = sectionOf([](Scenario& p) { return &p.stage2.phases[0].iterations; });
+    const toml::node* hydroNode = root.get(hydro.path);
+    const toml::table* t = hydroNode ? hydroNode->as_table() : nullptr;
+    // The first key of [hydrology] the file gives with a value other than its default, among `fields`.
+    const auto firstChanged = [&](std::initializer_list<const void*> fields) -> const Param* {
+        if (!t) return nullptr;
+        for (const void* field : fields) {
+            const Param* p = findParam(s, field).second;
+            if (t->get(p->key) && p->get(&h) != p->get(hydro.defaults())) return p;
+        }
+        return nullptr;
+    };
+    const auto refuse = [&](const Param& p, const std::string& why) {
+        TableReader r(*t, hydro.path, s.path);
+        r.fail(p.key, t->get(p.key), why);
+    };
+    if (!s.stage2.enabled) {
+        const auto [stage2, enabled] = findParam(s, &s.stage2.enabled);
+        const std::string off = stage2->qualified(enabled->key) + " = false";
+        if (const Param* p = firstChanged({&h.waterTable, &h.dip, &h.dipDirection, &h.lateral, &h.fromSite}))
+            refuse(*p,
+                   "the water table acts on stage 2, which is off (" + off + "); leave the key out or enable stage 2");
+        if (!s.stage2.phases.empty())
+            throw InputError(where(s, s.stage2.phases[0].line) + ": table " + phase.header() +
+                             ": base-level phases are stage-2 iterations, and stage 2 is off (" + off +
+                             "); remove the phases or enable stage 2");
+        return;
+    }
+    const bool phaseTable = std::any_of(s.stage2.phases.begin(), s.stage2.phases.end(),
+                                        [](const Stage2Phase& ph) { return ph.waterTable >= 0; });
+    if (h.waterTable >= 0 || h.fromSite || phaseTable) return;
+    if (const Param* p = firstChanged({&h.dip, &h.dipDirection, &h.lateral}))
+        refuse(*p, "shapes the water table, and there is none: set '" + scenarioKey(s, &h.waterTable) + "', '" +
+                       scenarioKey(s, &h.fromSite) + "' = true or a " + phase.header() + " '" +
+                       phase.qualified(entryOf([](Scenario& p) { return &p.stage2.phases[0].waterTable; }).key) +
+                       "', or leave the key out");
+}
+
 }  // namespace
 
 Scenario parseScenarioTable(const toml::table& root, const std::string& sourceName) {
@@ -573,6 +619,7 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
     ParseContext ctx{s, sourceName};
     const ParamSection& topSection = scenarioParameters().front();
     readSection(topSection, root, top, &s, ctx);
+    checkStage2Tables(root, s);
     const toml::node* snapshots = root.at_path("stage2.snapshots").node();
     checkSnapshots(s, snapshots ? int(snapshots->source().begin.line) : 0);
     validateScenario(s);

@@ -62,6 +62,21 @@ refused_after_good phase_high "phase water table above the block" '[[phase]]\nit
 stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
 refused_after_good table_site "water table from a site without one" '[hydrology]\nfrom_site = true\n'
 stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
+# Keys the run would ignore: the table's shape with no water table, a water table or phases with stage 2 off.
+refused_after_good table_dip "dip without a water table" '[hydrology]\ndip = 10\n'
+stderr_has "table_dip.toml:22: key 'hydrology.dip' = 10: shapes the water table, and there is none"
+refused_after_good table_lateral "vadose_lateral without a water table" '[hydrology]\nvadose_lateral = 0.5\n'
+stderr_has "key 'hydrology.vadose_lateral' = 0.5: shapes the water table, and there is none"
+sed 's/^iterations = 30/enabled = false/' good.toml > stage2_off.toml
+{ cat stage2_off.toml; printf '[hydrology]\nwater_table = 5\n'; } > table_off.toml
+expect_exit 2 "water table with stage 2 off" -- "$CAVESIM" run table_off.toml --out o8
+stderr_has "table_off.toml:22: key 'hydrology.water_table' = 5: the water table acts on stage 2, which is off (stage2.enabled = false)"
+{ cat stage2_off.toml; printf '[[phase]]\niterations = 10\n'; } > phase_off.toml
+expect_exit 2 "phases with stage 2 off" -- "$CAVESIM" run phase_off.toml --out o8
+stderr_has "phase_off.toml:21: table [[phase]]: base-level phases are stage-2 iterations, and stage 2 is off"
+# A key at its default changes nothing and stays allowed (the example scenario lists every key).
+{ cat good.toml; printf '[hydrology]\ndip = 0.0\n'; } > table_default.toml
+expect_exit 0 "a shape key at its default" -- "$CAVESIM" validate table_default.toml
 [ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
 sed 's/^sources = \[4\]/sources = [3]/' phase_recharge.toml > phase_recharge_ok.toml
 expect_exit 0 "a phase that names a recharge input" -- "$CAVESIM" run phase_recharge_ok.toml --out o17 -q

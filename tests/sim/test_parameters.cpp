@@ -126,8 +126,10 @@ TEST(Parameters, EveryKeyRoundTripsWithANonDefaultValue) {
     // Water tables must lie in the block and phases name existing terminals (relations, not ranges).
     s.stage2.hydrology.waterTable = 3;
     s.stage2.hydrology.fromSite = false;  // a site's surface excludes a level
+    s.stage2.enabled = true;              // [hydrology] and [[phase]] act on stage 2
     for (Stage2Phase& ph : s.stage2.phases) {
         ph.waterTable = 2;
+        ph.iterations = 7;  // the snapshot lies within the run
         ph.sinks = {1};
         ph.sources = {1};
     }
