@@ -374,6 +374,7 @@ void readParam(TableReader& r, const ParamSection& section, const Param& p, void
     const std::string& key = p.key;
     const toml::node* n = r.get(key);
     if (!n && p.required) r.fail(key, nullptr, "is required: " + p.shapeText);
+    if (n && !section.isArray) ctx.s.keyLines[section.qualified(key)] = int(n->source().begin.line);
     if (n) readValue(r, section, p, *n, record, ctx);
     const Param& pRateChannel = entryOf([](Scenario& s) { return &s.stage2.pRateChannel; });
     if (&p == &pRateChannel) {
@@ -811,6 +812,11 @@ Scenario parseScenarioFile(const std::string& path) {
 std::string scenarioKey(const Scenario& s, const void* field) {
     const auto [section, param] = findParam(s, field);
     return section->qualified(param->key);
+}
+
+int keyLine(const Scenario& s, const void* field) {
+    const auto it = s.keyLines.find(scenarioKey(s, field));
+    return it == s.keyLines.end() ? 0 : it->second;
 }
 
 Scenario defaultScenario() {
