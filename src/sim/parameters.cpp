@@ -715,7 +715,8 @@ std::vector<ParamSection> makeRegistry() {
             intList("snapshots", &Stage2Options::snapshots, rng(0, 1e6),
                     "iterations after which a picture of the state is written (`images/iter_NNNN.png`, combined in "
                     "`images/sequence.png`: up to 6 frames a row, at most 8192 pixels wide); each from 1 to the run's "
-                    "iterations (with `[[phase]]` entries, theirs together)")
+                    "iterations (with `[[phase]]` entries, theirs together). A snapshot writes nothing else, so it "
+                    "is an error with `[output] images = false`")
                 .unitIs("iterations")
                 .items(0, 32)
                 .shape("an array of iteration numbers")

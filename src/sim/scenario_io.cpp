@@ -556,6 +556,22 @@ std::string where(const Scenario& s, int line) {
 
 /// A snapshot the run never reaches (0, or after its last iteration) would silently give no picture.
 void checkSnapshots(const Scenario& s, int line) {
+    const std::vector<int>& snaps = s.stage2.snapshots;
+    if (!snaps.empty()) {
+        // A snapshot is only a picture: without pictures or without stage 2 it would give nothing.
+        std::string list;
+        for (int it : snaps) list += (list.empty() ? "" : ", ") + std::to_string(it);
+        const std::string head = where(s, line) + ": key '" + scenarioKey(s, &s.stage2.snapshots) + "' = [" + list +
+                                 "]: a snapshot is a picture of the state (images/iter_NNNN.png, images/sequence.png)";
+        if (!s.output.images)
+            throw InputError(head + " and '" + scenarioKey(s, &s.output.images) +
+                             "' = false writes no pictures: remove the snapshots or set images = true");
+        if (!s.stage2.enabled) {
+            const std::string enabled = scenarioKey(s, &s.stage2.enabled);
+            throw InputError(head + " taken in stage 2, and '" + enabled +
+                             "' = false: remove the snapshots or enable stage 2");
+        }
+    }
     if (!s.stage2.enabled) return;
     const long total = s.stage2.totalIterations();
     for (int it : s.stage2.snapshots)

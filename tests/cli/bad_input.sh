@@ -246,6 +246,15 @@ sed 's/^iterations = 30/iterations = 30\nsnapshots = [10, 31]/' good.toml > snap
 expect_exit 2 "snapshot after the last iteration" -- "$CAVESIM" run snap_late.toml --out o16
 stderr_has "snap_late.toml:17: key 'stage2.snapshots' = 31: a snapshot is taken after one of the run's stage-2 iterations, 1 to 30"
 [ ! -e o16 ] && pass "no output for an unreachable snapshot" || fail "o16 was created"
+# A snapshot is only a picture: refused without pictures or without stage 2.
+sed 's/^iterations = 30/iterations = 30\nsnapshots = [10, 20]/' good.toml > snap_noimg.toml
+printf 'images = false\n' >> snap_noimg.toml
+expect_exit 2 "snapshots without pictures" -- "$CAVESIM" run snap_noimg.toml --out o16
+stderr_has "snap_noimg.toml:17: key 'stage2.snapshots' = [10, 20]: a snapshot is a picture of the state (images/iter_NNNN.png, images/sequence.png) and 'output.images' = false writes no pictures"
+sed 's/^iterations = 30/enabled = false\nsnapshots = [10]/' good.toml > snap_off.toml
+expect_exit 2 "snapshots with stage 2 off" -- "$CAVESIM" run snap_off.toml --out o16
+stderr_has "key 'stage2.snapshots' = [10]: a snapshot is a picture of the state (images/iter_NNNN.png, images/sequence.png) taken in stage 2, and 'stage2.enabled' = false"
+[ ! -e o16 ] && pass "no output for snapshots that give no picture" || fail "o16 was created"
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"

@@ -127,6 +127,7 @@ TEST(Parameters, EveryKeyRoundTripsWithANonDefaultValue) {
     s.stage2.hydrology.waterTable = 3;
     s.stage2.hydrology.fromSite = false;  // a site's surface excludes a level
     s.stage2.enabled = true;              // [hydrology] and [[phase]] act on stage 2
+    s.output.images = true;               // snapshots are pictures
     for (Stage2Phase& ph : s.stage2.phases) {
         ph.waterTable = 2;
         ph.iterations = 7;  // the snapshot lies within the run
