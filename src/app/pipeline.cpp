@@ -216,13 +216,12 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
     if (s.speleothems.enabled) {
-        rec.speleothems = speleothemsJson(speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images));
-        // The decorated meshes are recorded by their bytes beside the state files (an empty cave
-        // writes none).
-        for (const char* f : {"cave_decorated.obj", "cave_decorated.ply", "cave_decorated.glb"}) {
-            const std::string path = dir.file(f).string();
-            if (std::filesystem::is_regular_file(path)) rec.files[f] = fileFingerprint(path);
-        }
+        const speleo::DecorationSummary decoration =
+            speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images, s.output.mesh);
+        rec.speleothems = speleothemsJson(decoration);
+        // The decorated meshes are recorded by their bytes beside the state files (none for an
+        // empty cave or with [output] mesh = false).
+        for (const std::string& f : decoration.meshFiles) rec.files[f] = fileFingerprint(dir.file(f).string());
     }
     rec.timing.mesh = tm.seconds();
 

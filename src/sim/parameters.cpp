@@ -887,7 +887,8 @@ std::vector<ParamSection> makeRegistry() {
         {
             boolean(
                 "enabled", &SpeleothemOptions::enabled,
-                "grow speleothems on the cave after stage 2 and write `cave_decorated.*` and `images/speleo_*.png`"),
+                "grow speleothems on the cave after stage 2 and write `cave_decorated.*` (with `[output] mesh`) and "
+                "`images/speleo_*.png` (with `[output] images`)"),
             boolean("drained", &SpeleothemOptions::drained,
                     "treat the whole cave as air-filled (there is no water table yet); `false` = water-filled: "
                     "nothing grows"),
