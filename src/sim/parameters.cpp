@@ -940,7 +940,8 @@ std::vector<ParamSection> makeRegistry() {
                  "distance d from the drip axis")
                 .unitIs("m"),
             integer("frames", &SpeleothemOptions::frames, rng(0, 64),
-                    "growth animation frames (`images/speleo_perspective_NN.png`, `images/speleo_closeup_NN.png`)"),
+                    "growth animation frames (`images/speleo_perspective_NN.png`, `images/speleo_closeup_NN.png`); "
+                    "none with `[output] images = false`, where giving a number above 0 is an error"),
         }));
     speleo.prose =
         "Speleothems grow after stage 2 on a finer level set of the cave surface; the law, its 3D reading\n"

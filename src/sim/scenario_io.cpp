@@ -637,6 +637,14 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
     const ParamSection& topSection = scenarioParameters().front();
     readSection(topSection, root, top, &s, ctx);
     checkStage2Tables(root, s);
+    // Growth frames are pictures: given without pictures they would give nothing (the default is
+    // not refused: it is simply not drawn).
+    const SpeleothemOptions& sp = s.speleothems;
+    if (sp.enabled && !s.output.images && sp.frames > 0 && keyLine(s, &sp.frames) > 0)
+        throw InputError(where(s, keyLine(s, &sp.frames)) + ": key '" + scenarioKey(s, &sp.frames) +
+                         "' = " + std::to_string(sp.frames) + ": growth frames are pictures, and '" +
+                         scenarioKey(s, &s.output.images) +
+                         "' = false writes none: leave the key out (or 0) or set images = true");
     const toml::node* snapshots = root.at_path("stage2.snapshots").node();
     checkSnapshots(s, snapshots ? int(snapshots->source().begin.line) : 0);
     validateScenario(s);

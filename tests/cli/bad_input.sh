@@ -255,6 +255,11 @@ sed 's/^iterations = 30/enabled = false\nsnapshots = [10]/' good.toml > snap_off
 expect_exit 2 "snapshots with stage 2 off" -- "$CAVESIM" run snap_off.toml --out o16
 stderr_has "key 'stage2.snapshots' = [10]: a snapshot is a picture of the state (images/iter_NNNN.png, images/sequence.png) taken in stage 2, and 'stage2.enabled' = false"
 [ ! -e o16 ] && pass "no output for snapshots that give no picture" || fail "o16 was created"
+{ cat good.toml; printf 'images = false\n[speleothems]\nenabled = true\nframes = 3\n'; } > frames_noimg.toml
+expect_exit 2 "speleothem frames without pictures" -- "$CAVESIM" validate frames_noimg.toml
+stderr_has "frames_noimg.toml:24: key 'speleothems.frames' = 3: growth frames are pictures, and 'output.images' = false writes none"
+{ cat good.toml; printf 'images = false\n[speleothems]\nenabled = true\n'; } > frames_default.toml
+expect_exit 0 "speleothems without pictures, frames at the default" -- "$CAVESIM" validate frames_default.toml
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"
