@@ -39,14 +39,21 @@ Stage1Result runScenarioStage1(Domain& dom, const Scenario& s, Rng& rng, const P
     try {
         return runStage1(dom, s.stage1, rng, progress);
     } catch (const Stage1LimitError& e) {
-        const int line =
+        const int sourceLine =
             e.source >= 0 && std::size_t(e.source) < s.sources.size() ? s.sources[std::size_t(e.source)].line : 0;
-        std::string where = s.path + (line > 0 ? ":" + std::to_string(line) : std::string());
-        if (e.source >= 0) {
-            where +=
-                ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) + "' = " + std::to_string(s.stage1.maxGraphVoxels);
+        if (e.source < 0) {  // not the key's limit (the machine's memory): the file as a whole
+            throw InputError(s.path + ": " + e.what());
         }
-        throw InputError(where + ": " + e.what());
+        // The key's own line when the file gives it; at its default, the source's line.
+        const int line = keyLine(s, &s.stage1.maxGraphVoxels);
+        std::string where = s.path + (line > 0         ? ":" + std::to_string(line)
+                                      : sourceLine > 0 ? ":" + std::to_string(sourceLine)
+                                                       : std::string());
+        where +=
+            ": key '" + scenarioKey(s, &s.stage1.maxGraphVoxels) + "' = " + std::to_string(s.stage1.maxGraphVoxels);
+        std::string msg = where + ": " + e.what();
+        if (line > 0 && sourceLine > 0) msg += " (the [[source]] entry at line " + std::to_string(sourceLine) + ")";
+        throw InputError(msg);
     }
 }
 
@@ -209,13 +216,12 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     }
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
     if (s.speleothems.enabled) {
-        rec.speleothems = speleothemsJson(speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images));
-        // The decorated meshes are recorded by their bytes beside the state files (an empty cave
-        // writes none).
-        for (const char* f : {"cave_decorated.obj", "cave_decorated.ply", "cave_decorated.glb"}) {
-            const std::string path = dir.file(f).string();
-            if (std::filesystem::is_regular_file(path)) rec.files[f] = fileFingerprint(path);
-        }
+        const speleo::DecorationSummary decoration =
+            speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images, s.output.mesh);
+        rec.speleothems = speleothemsJson(decoration);
+        // The decorated meshes are recorded by their bytes beside the state files (none for an
+        // empty cave or with [output] mesh = false).
+        for (const std::string& f : decoration.meshFiles) rec.files[f] = fileFingerprint(dir.file(f).string());
     }
     rec.timing.mesh = tm.seconds();
 

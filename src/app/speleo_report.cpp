@@ -36,7 +36,11 @@ nlohmann::json speleothemsJson(const speleo::DecorationSummary& s) {
     j["drip_points_on_floor"] = stalagmites;
     j["longest_m"] = longest;
     j["mean_length_m"] = grown.empty() ? 0.0 : total / double(grown.size());
-    j["years"] = s.years;
+    // The years decorated; null when there was nothing to decorate, `note` says why (and why
+    // nothing grew, when nothing did).
+    j["years"] = s.emptyCave ? nlohmann::json(nullptr) : nlohmann::json(s.years);
+    if (!s.note.empty()) j["note"] = s.note;
+    j["mesh_files"] = s.meshFiles;
     j["steps"] = s.steps;
     j["max_speed_mm_per_yr"] = s.maxSpeed * 1000.0;
     j["voxel_size_m"] = s.voxelSize;
@@ -69,12 +73,17 @@ void writeSpeleothemsMarkdown(std::ostringstream& md, const nlohmann::json& repo
     md << "\n## Speleothems\n\n"
        << j["stalactites"].get<long>() << " stalactite(s) (grown material at least one voxel long, of "
        << j.value("convex_patches", j["stalactites"].get<long>()) << " convex ceiling patches) after "
-       << fmt(j["years"].get<double>(), 0) << " years (" << j["steps"].get<int>() << " steps on a "
-       << fmt(j["voxel_size_m"].get<double>() * 100, 1) << " cm level set), " << j["drip_points_on_floor"].get<long>()
-       << " dripping onto the floor (stalagmites); longest " << fmt(j["longest_m"].get<double>() * 100, 1)
-       << " cm. Mesh `cave_decorated.obj` / `.ply` / `.glb`: " << j["mesh"]["faces"].get<long>() << " faces, closed "
-       << (j["mesh"]["closed"].get<bool>() ? "yes" : "no") << ", manifold "
-       << (j["mesh"]["manifold"].get<bool>() ? "yes" : "no") << ". Law and limits: docs/speleothems.md.\n\n";
+       << (j["years"].is_number() ? fmt(j["years"].get<double>(), 0) : std::string("no")) << " years ("
+       << j["steps"].get<int>() << " steps on a " << fmt(j["voxel_size_m"].get<double>() * 100, 1) << " cm level set), "
+       << j["drip_points_on_floor"].get<long>() << " dripping onto the floor (stalagmites); longest "
+       << fmt(j["longest_m"].get<double>() * 100, 1) << " cm. ";
+    if (j.contains("note")) md << "Note: " << j["note"].get<std::string>() << ". ";
+    // Reports written before `mesh_files` always had the three meshes.
+    const bool meshes = !j.contains("mesh_files") || !j["mesh_files"].empty();
+    md << (meshes ? "Mesh `cave_decorated.obj` / `.ply` / `.glb`: " : "Mesh not written (mesh output is off): ")
+       << j["mesh"]["faces"].get<long>() << " faces, closed " << (j["mesh"]["closed"].get<bool>() ? "yes" : "no")
+       << ", manifold " << (j["mesh"]["manifold"].get<bool>() ? "yes" : "no")
+       << ". Law and limits: docs/speleothems.md.\n\n";
     if (!j["largest"].empty()) {
         md << "Length: from the original ceiling straight above the tip down to the tip (grown material); "
               "radius: of the convex patch around the tip.\n\n"

@@ -36,8 +36,15 @@ FormatSet parseFormatSet(const std::string& list) {
         const std::string item = trim(list.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
         if (item == "none" && (at > 0 || comma != std::string::npos))
             throw InputError("formats \"" + list + "\": \"none\" stands alone (it was ignored beside other entries)");
+        // A format listed twice is refused, as in the scenario's `[output] formats` ("all" lists each).
+        const auto addOnce = [&](std::size_t f) {
+            if (set.has(Format(f)))
+                throw InputError("formats \"" + list + "\": \"" + kNames[f] +
+                                 "\" is listed twice (give each format once; \"all\" lists every one)");
+            set.add(Format(f));
+        };
         if (item == "all") {
-            for (std::size_t f = 0; f < kNames.size(); ++f) set.add(Format(f));
+            for (std::size_t f = 0; f < kNames.size(); ++f) addOnce(f);
         } else if (item != "none") {
             std::size_t f = 0;
             while (f < kNames.size() && item != kNames[f]) ++f;
@@ -45,7 +52,7 @@ FormatSet parseFormatSet(const std::string& list) {
                 throw InputError("formats \"" + list + "\": " +
                                  (item.empty() ? std::string("empty entry") : "unknown format \"" + item + "\"") +
                                  " (allowed: " + allowed + ")");
-            set.add(Format(f));
+            addOnce(f);
         }
         if (comma == std::string::npos) break;
         at = comma + 1;

@@ -425,12 +425,27 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
     drawStandardLegend(img, f, {{LegendEntry::Kind::kSwatch, caveShadow, Marker::kCircle, "cave (plan shadow)"}});
     for (int fam = 0; fam < families; ++fam) {
         const FractureFamilyStats& st = net.families[std::size_t(fam)];
-        char text[160];
-        std::snprintf(text, sizeof text, "family %d: %ld discs, measured dip direction/dip %03.0f/%02.0f, kappa %.0f",
-                      fam + 1, st.count, st.meanDipDirection, st.meanDip, st.kappaEstimate);
-        drawLegend(img, f, 1 + fam, f.vx, {{LegendEntry::Kind::kSwatch, zoneColour(fam), Marker::kCircle, text}});
+        drawLegend(img, f, 1 + fam, f.vx,
+                   {{LegendEntry::Kind::kSwatch, zoneColour(fam), Marker::kCircle, fractureFamilyLabel(fam, st)}});
     }
     return img;
+}
+
+std::string fractureFamilyLabel(int family, const FractureFamilyStats& st) {
+    char text[160];
+    std::string orientation = "n/a";  // no mean of no disc
+    if (st.count > 0) {
+        std::snprintf(text, sizeof text, "%03.0f/%02.0f", st.meanDipDirection, st.meanDip);
+        orientation = text;
+    }
+    std::string kappa = "n/a";  // no concentration estimate from fewer than 2 discs
+    if (st.count > 1) {
+        std::snprintf(text, sizeof text, "%.0f", st.kappaEstimate);
+        kappa = text;
+    }
+    std::snprintf(text, sizeof text, "family %d: %ld discs, measured dip direction/dip %s, kappa %s", family + 1,
+                  st.count, orientation.c_str(), kappa.c_str());
+    return text;
 }
 
 void writeFracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const FractureNetwork& net,

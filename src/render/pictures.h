@@ -53,6 +53,11 @@ Image composeStrip(const std::vector<Image>& frames, int rows);
 /// Stacks images top to bottom, each centred horizontally.
 Image stackVertically(const std::vector<Image>& images);
 
+/// The legend line of family `family` (0-based) in images/fractures.png: its disc count, measured
+/// mean dip direction / dip (degrees) and concentration estimate. What report.json gives as null
+/// is shown as "n/a": the orientation of a family with no disc, kappa of one with fewer than 2.
+std::string fractureFamilyLabel(int family, const FractureFamilyStats& stats);
+
 /// images/fractures.png: the fracture network in plan, each disc's outline projected onto the
 /// horizontal plane (a steep disc is nearly its strike line) and lightly filled in its family's
 /// colour, over the plan shadow of the cave (`mask`), with the sources and sinks; the legend gives

@@ -45,6 +45,11 @@ struct P : Param {
         shapeText = std::move(t);
         return std::move(*this);
     }
+    P&& appliesWhen(std::function<bool(const void*)> f, std::string reason) && {
+        applies = std::move(f);
+        notApplicable = std::move(reason);
+        return std::move(*this);
+    }
 };
 
 ParamRange rng(double lo, double hi, const char* ends = "[]", bool domainScaled = false) {
@@ -537,6 +542,9 @@ std::vector<ParamSection> makeRegistry() {
     sink.limitReason = "one [[sink]] may be a box of many voxels";
     sink.setLine = [](void* r, int line) { static_cast<SinkSpec*>(r)->line = line; };
 
+    const auto isSinkholes = [](const void* rec) {
+        return static_cast<const RechargeSpec*>(rec)->kind == RK::kSinkholes;
+    };
     ParamSection& recharge = r.emplace_back(tableArray(
         "recharge", &Scenario::recharge, 64, "sinkholes, diffuse recharge, sinking streams",
         {
@@ -550,11 +558,13 @@ std::vector<ParamSection> makeRegistry() {
                 .items(0, 4)
                 .shape("[] or [x0, y0, x1, y1]")
                 .rangeShown("[] or 4 column indices inside the top face, x0 ≤ x1, y0 ≤ y1"),
-            integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many"),
+            integer("count", &RechargeSpec::count, rng(1, 256), "sinkholes: how many")
+                .appliesWhen(isSinkholes, "only sinkholes take a count; leave it out for this kind"),
             integer("radius", &RechargeSpec::radius, rng(0, 64),
                     "sinkholes: each is a (2r+1)² × (r+1) box under the land surface (2r+1 at most the area's sides, "
                     "r+1 at most nz), at least 2r+1 apart")
-                .unitIs("voxels"),
+                .unitIs("voxels")
+                .appliesWhen(isSinkholes, "only sinkholes take a radius; leave it out for this kind"),
             real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
                 .unitIs("voxels"),
             real("pressure", &RechargeSpec::pressure, rng(0, 1e6, "(]"),
@@ -574,7 +584,8 @@ std::vector<ParamSection> makeRegistry() {
         "site's sinkholes; everything downstream sees sources. Together with the `[[source]]` entries and a\n"
         "site's sinkholes at most 256 sources. Recharge outside the top face's columns, on a column the DEM\n"
         "leaves all air, sinkholes that do not fit in their area, or an input on a sink or a spring is an\n"
-        "error (docs/geology.md).";
+        "error (docs/geology.md). A key of another kind is an error too: `count` or `radius` on a stream or\n"
+        "diffuse entry, `points` on sinkholes or diffuse, `area` on a stream.";
     recharge.setLine = [](void* r, int line) { static_cast<RechargeSpec*>(r)->line = line; };
 
     const std::vector<ParamChoice> faces{{"-x", int(GF::kMinusX)}, {"+x", int(GF::kPlusX)},  {"-y", int(GF::kMinusY)},
@@ -704,7 +715,8 @@ std::vector<ParamSection> makeRegistry() {
             intList("snapshots", &Stage2Options::snapshots, rng(0, 1e6),
                     "iterations after which a picture of the state is written (`images/iter_NNNN.png`, combined in "
                     "`images/sequence.png`: up to 6 frames a row, at most 8192 pixels wide); each from 1 to the run's "
-                    "iterations (with `[[phase]]` entries, theirs together)")
+                    "iterations (with `[[phase]]` entries, theirs together). A snapshot writes nothing else, so it "
+                    "is an error with `[output] images = false`")
                 .unitIs("iterations")
                 .items(0, 32)
                 .shape("an array of iteration numbers")
@@ -739,7 +751,10 @@ std::vector<ParamSection> makeRegistry() {
     hydro.prose =
         "A water table divides the block into a vadose zone above it, where water is not pressurised and\n"
         "moves down under gravity (shafts and canyons), and a phreatic zone below, where the paper's\n"
-        "pressure model holds. Without it (the default) stage 2 is the paper's model unchanged.";
+        "pressure model holds. Without it (the default) stage 2 is the paper's model unchanged. A key the\n"
+        "run would ignore is an error: any key away from its default while stage 2 is off, and `dip`,\n"
+        "`dip_direction` or `vadose_lateral` away from their defaults when no water table is set (here, by\n"
+        "`from_site`, or by a `[[phase]]`).";
 
     ParamSection& phase = r.emplace_back(tableArrayOf(
         "phase", phases, 64, "base-level phases",
@@ -769,7 +784,8 @@ std::vector<ParamSection> makeRegistry() {
     phase.prose =
         "Base-level phases run in file order in stage 2, each with its own water table and active sinks\n"
         "and sources; when given, their iterations replace `[stage2] iterations`. A falling water table\n"
-        "leaves the passages of an earlier phase vadose (or dry) and grows a lower level. At most 64.";
+        "leaves the passages of an earlier phase vadose (or dry) and grows a lower level. At most 64;\n"
+        "an error while stage 2 is off.";
     phase.setLine = [](void* r, int line) { static_cast<Stage2Phase*>(r)->line = line; };
     phase.exampleCommented = true;
     phase.nonEmpty = true;
@@ -871,7 +887,8 @@ std::vector<ParamSection> makeRegistry() {
         {
             boolean(
                 "enabled", &SpeleothemOptions::enabled,
-                "grow speleothems on the cave after stage 2 and write `cave_decorated.*` and `images/speleo_*.png`"),
+                "grow speleothems on the cave after stage 2 and write `cave_decorated.*` (with `[output] mesh`) and "
+                "`images/speleo_*.png` (with `[output] images`)"),
             boolean("drained", &SpeleothemOptions::drained,
                     "treat the whole cave as air-filled (there is no water table yet); `false` = water-filled: "
                     "nothing grows"),
@@ -923,7 +940,8 @@ std::vector<ParamSection> makeRegistry() {
                  "distance d from the drip axis")
                 .unitIs("m"),
             integer("frames", &SpeleothemOptions::frames, rng(0, 64),
-                    "growth animation frames (`images/speleo_perspective_NN.png`, `images/speleo_closeup_NN.png`)"),
+                    "growth animation frames (`images/speleo_perspective_NN.png`, `images/speleo_closeup_NN.png`); "
+                    "none with `[output] images = false`, where giving a number above 0 is an error"),
         }));
     speleo.prose =
         "Speleothems grow after stage 2 on a finer level set of the cave surface; the law, its 3D reading\n"

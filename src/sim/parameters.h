@@ -76,6 +76,11 @@ struct Param {
     std::function<void(void* record, const ParamValue&)> set;
     /// The member's address inside `record` (for `scenarioKey`).
     std::function<const void*(const void* record)> address;
+    /// Whether the key applies to `record` (empty: always). A key that does not apply is refused by
+    /// the parser when the file gives it, with `notApplicable` as the reason, and left out of the
+    /// effective scenario. Checked after every key of the record has been read.
+    std::function<bool(const void* record)> applies;
+    std::string notApplicable;  ///< why the key does not apply, for messages ("only sinkholes take …")
 };
 
 /// One TOML table (or table of arrays) of keys.

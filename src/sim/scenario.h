@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -172,6 +173,9 @@ struct Scenario {
     SpeleothemOptions speleothems;
 
     std::string path;  ///< file it came from ("<built-in>" for the default)
+    /// Line of each key of a plain table (not a table of arrays) the file gives, by dotted key
+    /// (`stage1.max_graph_voxels`), for messages raised after reading (see `keyLine`).
+    std::map<std::string, int> keyLines;
 };
 
 }  // namespace cavesim

@@ -286,6 +286,7 @@ std::pair<const ParamSection*, const Param*> probeParam(F pick) {
         p.sources.resize(1);
         p.sinks.resize(1);
         p.recharge.resize(1);
+        p.stage2.phases.resize(1);
         return p;
     }();
     return findParam(probe, pick(probe));
@@ -373,6 +374,7 @@ void readParam(TableReader& r, const ParamSection& section, const Param& p, void
     const std::string& key = p.key;
     const toml::node* n = r.get(key);
     if (!n && p.required) r.fail(key, nullptr, "is required: " + p.shapeText);
+    if (n && !section.isArray) ctx.s.keyLines[section.qualified(key)] = int(n->source().begin.line);
     if (n) readValue(r, section, p, *n, record, ctx);
     const Param& pRateChannel = entryOf([](Scenario& s) { return &s.stage2.pRateChannel; });
     if (&p == &pRateChannel) {
@@ -507,6 +509,10 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
         readParam(r, section, p, record, ctx);
         known.push_back(p.key);
     }
+    // A key given where it does not apply (a sinkholes-only key on a stream) would be ignored.
+    for (const Param& p : section.params)
+        if (p.applies && !p.applies(record))
+            if (const toml::node* n = table.get(p.key)) r.fail(p.key, n, p.notApplicable);
     for (const ParamSection& child : scenarioParameters()) {
         const std::string prefix = section.path.empty() ? "" : section.path + ".";
         if (child.path.empty() || child.path.compare(0, prefix.size(), prefix) != 0 ||
@@ -550,6 +556,22 @@ std::string where(const Scenario& s, int line) {
 
 /// A snapshot the run never reaches (0, or after its last iteration) would silently give no picture.
 void checkSnapshots(const Scenario& s, int line) {
+    const std::vector<int>& snaps = s.stage2.snapshots;
+    if (!snaps.empty()) {
+        // A snapshot is only a picture: without pictures or without stage 2 it would give nothing.
+        std::string list;
+        for (int it : snaps) list += (list.empty() ? "" : ", ") + std::to_string(it);
+        const std::string head = where(s, line) + ": key '" + scenarioKey(s, &s.stage2.snapshots) + "' = [" + list +
+                                 "]: a snapshot is a picture of the state (images/iter_NNNN.png, images/sequence.png)";
+        if (!s.output.images)
+            throw InputError(head + " and '" + scenarioKey(s, &s.output.images) +
+                             "' = false writes no pictures: remove the snapshots or set images = true");
+        if (!s.stage2.enabled) {
+            const std::string enabled = scenarioKey(s, &s.stage2.enabled);
+            throw InputError(head + " taken in stage 2, and '" + enabled +
+                             "' = false: remove the snapshots or enable stage 2");
+        }
+    }
     if (!s.stage2.enabled) return;
     const long total = s.stage2.totalIterations();
     for (int it : s.stage2.snapshots)
@@ -558,6 +580,51 @@ void checkSnapshots(const Scenario& s, int line) {
                 where(s, line) + ": key '" + scenarioKey(s, &s.stage2.snapshots) + "' = " + std::to_string(it) +
                 ": a snapshot is taken after one of the run's stage-2 iterations, 1 to " + std::to_string(total) +
                 (s.stage2.phases.empty() ? std::string() : " (the [[phase]] iterations together)"));
+}
+
+/// `[hydrology]` and `[[phase]]` keys the run would ignore: a phase, or a `[hydrology]` key away from
+/// its default, with stage 2 off; the table's shape keys (dip, its direction, the vadose drift) away
+/// from their defaults when no water table is set anywhere. Only keys the file gives are refused, and
+/// a key at its default changes nothing (the example scenario lists every key at its default).
+void checkStage2Tables(const toml::table& root, const Scenario& s) {
+    const Hydrology& h = s.stage2.hydrology;
+    const ParamSection& hydro = sectionOf([](Scenario& p) { return &p.stage2.hydrology.dip; });
+    const ParamSection& phase = sectionOf([](Scenario& p) { return &p.stage2.phases[0].iterations; });
+    const toml::node* hydroNode = root.get(hydro.path);
+    const toml::table* t = hydroNode ? hydroNode->as_table() : nullptr;
+    // The first key of [hydrology] the file gives with a value other than its default, among `fields`.
+    const auto firstChanged = [&](std::initializer_list<const void*> fields) -> const Param* {
+        if (!t) return nullptr;
+        for (const void* field : fields) {
+            const Param* p = findParam(s, field).second;
+            if (t->get(p->key) && p->get(&h) != p->get(hydro.defaults())) return p;
+        }
+        return nullptr;
+    };
+    const auto refuse = [&](const Param& p, const std::string& why) {
+        TableReader r(*t, hydro.path, s.path);
+        r.fail(p.key, t->get(p.key), why);
+    };
+    if (!s.stage2.enabled) {
+        const auto [stage2, enabled] = findParam(s, &s.stage2.enabled);
+        const std::string off = stage2->qualified(enabled->key) + " = false";
+        if (const Param* p = firstChanged({&h.waterTable, &h.dip, &h.dipDirection, &h.lateral, &h.fromSite}))
+            refuse(*p,
+                   "the water table acts on stage 2, which is off (" + off + "); leave the key out or enable stage 2");
+        if (!s.stage2.phases.empty())
+            throw InputError(where(s, s.stage2.phases[0].line) + ": table " + phase.header() +
+                             ": base-level phases are stage-2 iterations, and stage 2 is off (" + off +
+                             "); remove the phases or enable stage 2");
+        return;
+    }
+    const bool phaseTable = std::any_of(s.stage2.phases.begin(), s.stage2.phases.end(),
+                                        [](const Stage2Phase& ph) { return ph.waterTable >= 0; });
+    if (h.waterTable >= 0 || h.fromSite || phaseTable) return;
+    if (const Param* p = firstChanged({&h.dip, &h.dipDirection, &h.lateral}))
+        refuse(*p, "shapes the water table, and there is none: set '" + scenarioKey(s, &h.waterTable) + "', '" +
+                       scenarioKey(s, &h.fromSite) + "' = true or a " + phase.header() + " '" +
+                       phase.qualified(entryOf([](Scenario& p) { return &p.stage2.phases[0].waterTable; }).key) +
+                       "', or leave the key out");
 }
 
 }  // namespace
@@ -569,6 +636,15 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
     ParseContext ctx{s, sourceName};
     const ParamSection& topSection = scenarioParameters().front();
     readSection(topSection, root, top, &s, ctx);
+    checkStage2Tables(root, s);
+    // Growth frames are pictures: given without pictures they would give nothing (the default is
+    // not refused: it is simply not drawn).
+    const SpeleothemOptions& sp = s.speleothems;
+    if (sp.enabled && !s.output.images && sp.frames > 0 && keyLine(s, &sp.frames) > 0)
+        throw InputError(where(s, keyLine(s, &sp.frames)) + ": key '" + scenarioKey(s, &sp.frames) +
+                         "' = " + std::to_string(sp.frames) + ": growth frames are pictures, and '" +
+                         scenarioKey(s, &s.output.images) +
+                         "' = false writes none: leave the key out (or 0) or set images = true");
     const toml::node* snapshots = root.at_path("stage2.snapshots").node();
     checkSnapshots(s, snapshots ? int(snapshots->source().begin.line) : 0);
     validateScenario(s);
@@ -762,6 +838,11 @@ std::string scenarioKey(const Scenario& s, const void* field) {
     return section->qualified(param->key);
 }
 
+int keyLine(const Scenario& s, const void* field) {
+    const auto it = s.keyLines.find(scenarioKey(s, field));
+    return it == s.keyLines.end() ? 0 : it->second;
+}
+
 Scenario defaultScenario() {
     return parseScenarioString(kDefaultScenarioToml, "<built-in fig10>");
 }
@@ -855,7 +936,8 @@ toml::table scenarioTable(const Scenario& s, bool everyTable) {
             toml::array entries;
             for (std::size_t i = 0; i < n; ++i) {
                 toml::table t;
-                for (const Param& p : section.params) insertValue(t, p, p.get(section.record(s, i)));
+                for (const Param& p : section.params)
+                    if (!p.applies || p.applies(section.record(s, i))) insertValue(t, p, p.get(section.record(s, i)));
                 entries.push_back(std::move(t));
             }
             parent.insert(section.path.substr(dot == std::string::npos ? 0 : dot + 1), std::move(entries));

@@ -116,13 +116,17 @@ render::Image renderMesh(const mesh::TriangleMesh& m, const render::Camera& cam,
 }
 
 DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, const std::string& dir, int imageWidth,
-                               bool images) {
+                               bool images, bool meshes) {
     Stopwatch watch;
     DecorationSummary sum;
     sum.voxelSize = o.voxelSize;
     namespace fs = std::filesystem;
     const mesh::TriangleMesh caveMesh = mesh::buildCaveMesh(cave.mask, cave.voxelSize);
-    if (caveMesh.triangles.empty()) return sum;
+    if (caveMesh.triangles.empty()) {
+        sum.emptyCave = true;
+        sum.note = "the cave is empty: no surface to decorate";
+        return sum;
+    }
     DecorationField field = fieldFromMesh(caveMesh, o.voxelSize);
     addCeilingRoughness(field, o.roughness, o.roughnessScale, o.seed);
     const DecorationField original = field;  // the ceiling before growth, to measure what grew
@@ -143,6 +147,14 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
     measureGrowth(original, sum.stalactites);
     sum.steps = g.steps;
     sum.years = g.years;
+    if (g.years < o.years - 1e-9) {
+        // Growth stops only when nothing moves; such a surface stays as it is for the rest of the time.
+        sum.note = (g.steps == 0 ? std::string("nothing grows")
+                                 : "nothing grows after year " + std::to_string(long(std::lround(g.years)))) +
+                   ": no ceiling drip point moves (a cave not drained, a ceiling without a convex patch, or a "
+                   "growth rate of 0)";
+        sum.years = o.years;
+    }
     sum.maxSpeed = g.maxSpeed;
     sum.levelSetVoxels = field.activeVoxels();
     sum.secondsGrowth = watch.lap();
@@ -150,11 +162,14 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
     const mesh::TriangleMesh decorated = meshField(field);
     sum.mesh = mesh::measureMesh(decorated);
     fs::create_directories(dir);
-    mesh::writeMeshFile(decorated, (fs::path(dir) / "cave_decorated.obj").string());
-    mesh::writeMeshFile(decorated, (fs::path(dir) / "cave_decorated.ply").string());
-    formats::GlbOptions go;
-    go.name = "cave_decorated";
-    formats::writeGlb(mesh::toSurfaceMesh(decorated), (fs::path(dir) / "cave_decorated.glb").string(), go);
+    if (meshes) {
+        mesh::writeMeshFile(decorated, (fs::path(dir) / "cave_decorated.obj").string());
+        mesh::writeMeshFile(decorated, (fs::path(dir) / "cave_decorated.ply").string());
+        formats::GlbOptions go;
+        go.name = "cave_decorated";
+        formats::writeGlb(mesh::toSurfaceMesh(decorated), (fs::path(dir) / "cave_decorated.glb").string(), go);
+        sum.meshFiles = {"cave_decorated.obj", "cave_decorated.ply", "cave_decorated.glb"};
+    }
 
     if (frames > 0) {
         fs::create_directories(fs::path(dir) / "images");

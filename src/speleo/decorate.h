@@ -27,20 +27,25 @@ struct DecorationSummary {
     std::vector<Stalactite> stalactites;  ///< on the final surface, longest grown first (measureGrowth)
     int steps = 0;
     double years = 0;
-    double maxSpeed = 0;                ///< m/yr
-    double voxelSize = 0;               ///< metres
-    long levelSetVoxels = 0;            ///< active voxels of the fine level set at the end
-    mesh::MeshStats mesh;               ///< of cave_decorated.obj
-    std::vector<std::string> pictures;  ///< written, relative to the run folder
+    double maxSpeed = 0;                 ///< m/yr
+    double voxelSize = 0;                ///< metres
+    long levelSetVoxels = 0;             ///< active voxels of the fine level set at the end
+    mesh::MeshStats mesh;                ///< of the decorated surface (cave_decorated.obj when written)
+    std::vector<std::string> meshFiles;  ///< cave_decorated.obj, .ply, .glb when written, relative to the run folder
+    std::vector<std::string> pictures;   ///< written, relative to the run folder
+    bool emptyCave = false;              ///< nothing to decorate: no growth ran (`years` means nothing)
+    /// Why nothing grew, or stopped growing before `options.years` (empty when it grew throughout).
+    /// `years` is then still the years decorated: a surface on which nothing moves stays as it is.
+    std::string note;
     double secondsGrowth = 0, secondsOutput = 0;
 };
 
-/// Decorates `cave` and writes `dir`/cave_decorated.obj, .ply, .glb and, when `images`,
-/// `dir`/images/speleo_perspective_NN.png and speleo_closeup_NN.png (NN = frame).
-/// An empty cave or `!options.drained` still writes the (undecorated) surface.
+/// Decorates `cave` and writes, when `meshes`, `dir`/cave_decorated.obj, .ply, .glb and, when
+/// `images`, `dir`/images/speleo_perspective_NN.png and speleo_closeup_NN.png (NN = frame).
+/// `!options.drained` still writes the (undecorated) surface; an empty cave writes nothing.
 /// @throw RuntimeError when a file cannot be written
 DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& options, const std::string& dir,
-                               int imageWidth, bool images);
+                               int imageWidth, bool images, bool meshes);
 
 /// Z-buffered picture of `mesh` through `camera` on a `width` × `height` canvas: diffuse and
 /// head light, stone colour shaded by height between `zLow` and `zHigh` (metres).

@@ -53,6 +53,34 @@ TEST(AppSpeleothems, RunWritesTheDecoratedCaveItsPicturesAndItsReport) {
     fs::remove_all(out);
 }
 
+TEST(AppSpeleothems, MeshOffWritesNoDecoratedMeshAndStillCaveReportsItsYears) {
+    // [output] mesh = false: no cave_decorated.*, as no cave.obj. A cave that is not drained grows
+    // nothing: the report gives the years decorated (the surface stays as it is) and says why.
+    std::string text = kDecorated;
+    text.replace(text.find("image_width = 256\n"), 18, "image_width = 256\nmesh = false\n");
+    text += "drained = false\n";
+    const Scenario s = parseScenarioString(text, "still.toml");
+    const fs::path out = apptest::scratch("speleo_still");
+    const app::PipelineResult r = apptest::runInto(s, out);
+    for (const char* f : {"cave_decorated.obj", "cave_decorated.ply", "cave_decorated.glb", "cave.obj"}) {
+        EXPECT_FALSE(fs::exists(out / f)) << f;
+        EXPECT_FALSE(r.report["files"].contains(f)) << f;
+    }
+    const auto& j = r.report["speleothems"];
+    EXPECT_EQ(j["years"], 2000.0);
+    EXPECT_EQ(j["steps"], 0);
+    EXPECT_EQ(j["stalactites"], 0);
+    EXPECT_EQ(j["mesh_files"], nlohmann::json::array());
+    ASSERT_TRUE(j.contains("note"));
+    EXPECT_EQ(j["note"].get<std::string>().rfind("nothing grows: no ceiling drip point moves", 0), 0u) << j["note"];
+    std::ifstream md(out / "report.md");
+    std::stringstream mdText;
+    mdText << md.rdbuf();
+    EXPECT_NE(mdText.str().find("after 2000 years (0 steps"), std::string::npos) << mdText.str();
+    EXPECT_NE(mdText.str().find("Mesh not written (mesh output is off)"), std::string::npos);
+    fs::remove_all(out);
+}
+
 TEST(AppSpeleothems, OffByDefault) {
     Scenario s;
     EXPECT_FALSE(s.speleothems.enabled);

@@ -62,6 +62,21 @@ refused_after_good phase_high "phase water table above the block" '[[phase]]\nit
 stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
 refused_after_good table_site "water table from a site without one" '[hydrology]\nfrom_site = true\n'
 stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
+# Keys the run would ignore: the table's shape with no water table, a water table or phases with stage 2 off.
+refused_after_good table_dip "dip without a water table" '[hydrology]\ndip = 10\n'
+stderr_has "table_dip.toml:22: key 'hydrology.dip' = 10: shapes the water table, and there is none"
+refused_after_good table_lateral "vadose_lateral without a water table" '[hydrology]\nvadose_lateral = 0.5\n'
+stderr_has "key 'hydrology.vadose_lateral' = 0.5: shapes the water table, and there is none"
+sed 's/^iterations = 30/enabled = false/' good.toml > stage2_off.toml
+{ cat stage2_off.toml; printf '[hydrology]\nwater_table = 5\n'; } > table_off.toml
+expect_exit 2 "water table with stage 2 off" -- "$CAVESIM" run table_off.toml --out o8
+stderr_has "table_off.toml:22: key 'hydrology.water_table' = 5: the water table acts on stage 2, which is off (stage2.enabled = false)"
+{ cat stage2_off.toml; printf '[[phase]]\niterations = 10\n'; } > phase_off.toml
+expect_exit 2 "phases with stage 2 off" -- "$CAVESIM" run phase_off.toml --out o8
+stderr_has "phase_off.toml:21: table [[phase]]: base-level phases are stage-2 iterations, and stage 2 is off"
+# A key at its default changes nothing and stays allowed (the example scenario lists every key).
+{ cat good.toml; printf '[hydrology]\ndip = 0.0\n'; } > table_default.toml
+expect_exit 0 "a shape key at its default" -- "$CAVESIM" validate table_default.toml
 [ ! -e o8 ] && pass "no output dir for bad hydrology" || fail "o8 was created"
 sed 's/^sources = \[4\]/sources = [3]/' phase_recharge.toml > phase_recharge_ok.toml
 expect_exit 0 "a phase that names a recharge input" -- "$CAVESIM" run phase_recharge_ok.toml --out o17 -q
@@ -204,7 +219,7 @@ expect_exit 2 "recharge outside the land surface" -- "$CAVESIM" run recharge_out
 stderr_has "key 'recharge.area' = [0, 0, 20, 0]: recharge outside the land surface"
 [ ! -e o15 ] && pass "no output for recharge outside the land surface" || fail "o15 was created"
 sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0, 0.0, 11.0], [18.0, 0.0, 11.0]]/' \
-  recharge_out.toml > stream_out.toml
+  -e '/^count = /d' recharge_out.toml > stream_out.toml
 expect_exit 2 "stream outside the block" -- "$CAVESIM" validate stream_out.toml
 stderr_has "key 'recharge.points' = [[1, 0, 11], [18, 0, 11]]: recharge outside the land surface"
 # A sinkhole box that does not fit its area or the block's height (it was cut to the block), and
@@ -213,14 +228,38 @@ sed -e 's/^area = .*/area = [2, 0, 12, 0]/' -e 's/^count = 2/count = 1\nradius =
 expect_exit 2 "sinkhole wider than its area" -- "$CAVESIM" validate sinkhole_wide.toml
 stderr_has "key 'recharge.radius' = 1: a sinkhole of radius r is a (2r+1) × (2r+1) × (r+1) box, which must fit in its area [2, 0, 12, 0]"
 sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[11.0, 0.0, 11.0], [15.0, 0.0, 11.0]]/' \
-  recharge_out.toml > stream_sink.toml
+  -e '/^count = /d' recharge_out.toml > stream_sink.toml
 expect_exit 2 "stream onto a sink" -- "$CAVESIM" validate stream_sink.toml
 stderr_has "key 'recharge.kind' = \"stream\" (entry 1): an input at [15, 0, 11] overlaps [[sink]] entry 1"
+# A sinkholes-only key on another kind would be ignored: refused with its own line.
+sed -e 's/^kind = "sinkholes"/kind = "stream"/' -e 's/^area = .*/points = [[1.0, 0.0, 11.0], [8.0, 0.0, 11.0]]/' \
+  recharge_out.toml > stream_count.toml
+count_line=$(grep -n '^count = ' stream_count.toml | cut -d: -f1)
+expect_exit 2 "count on a stream" -- "$CAVESIM" run stream_count.toml --out o19
+stderr_has "stream_count.toml:$count_line: key 'recharge.count' = 2: only sinkholes take a count"
+[ ! -e o19 ] && pass "no output for count on a stream" || fail "o19 was created"
+sed -e 's/^kind = "sinkholes"/kind = "diffuse"/' -e 's/^count = 2/radius = 0/' recharge_out.toml > diffuse_radius.toml
+expect_exit 2 "radius on diffuse recharge" -- "$CAVESIM" validate diffuse_radius.toml
+stderr_has "key 'recharge.radius' = 0: only sinkholes take a radius"
 # A snapshot the run never reaches would give no picture: refused, with the line.
 sed 's/^iterations = 30/iterations = 30\nsnapshots = [10, 31]/' good.toml > snap_late.toml
 expect_exit 2 "snapshot after the last iteration" -- "$CAVESIM" run snap_late.toml --out o16
 stderr_has "snap_late.toml:17: key 'stage2.snapshots' = 31: a snapshot is taken after one of the run's stage-2 iterations, 1 to 30"
 [ ! -e o16 ] && pass "no output for an unreachable snapshot" || fail "o16 was created"
+# A snapshot is only a picture: refused without pictures or without stage 2.
+sed 's/^iterations = 30/iterations = 30\nsnapshots = [10, 20]/' good.toml > snap_noimg.toml
+printf 'images = false\n' >> snap_noimg.toml
+expect_exit 2 "snapshots without pictures" -- "$CAVESIM" run snap_noimg.toml --out o16
+stderr_has "snap_noimg.toml:17: key 'stage2.snapshots' = [10, 20]: a snapshot is a picture of the state (images/iter_NNNN.png, images/sequence.png) and 'output.images' = false writes no pictures"
+sed 's/^iterations = 30/enabled = false\nsnapshots = [10]/' good.toml > snap_off.toml
+expect_exit 2 "snapshots with stage 2 off" -- "$CAVESIM" run snap_off.toml --out o16
+stderr_has "key 'stage2.snapshots' = [10]: a snapshot is a picture of the state (images/iter_NNNN.png, images/sequence.png) taken in stage 2, and 'stage2.enabled' = false"
+[ ! -e o16 ] && pass "no output for snapshots that give no picture" || fail "o16 was created"
+{ cat good.toml; printf 'images = false\n[speleothems]\nenabled = true\nframes = 3\n'; } > frames_noimg.toml
+expect_exit 2 "speleothem frames without pictures" -- "$CAVESIM" validate frames_noimg.toml
+stderr_has "frames_noimg.toml:24: key 'speleothems.frames' = 3: growth frames are pictures, and 'output.images' = false writes none"
+{ cat good.toml; printf 'images = false\n[speleothems]\nenabled = true\n'; } > frames_default.toml
+expect_exit 0 "speleothems without pictures, frames at the default" -- "$CAVESIM" validate frames_default.toml
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"

@@ -39,8 +39,14 @@ expect_exit 0 "scenario's own formats, mesh off" -- "$CAVESIM" run own.toml --ou
 expect_exit 2 "unknown format refused" -- "$CAVESIM" run s.toml --out x --formats glb,obj -q
 stderr_has 'unknown format "obj"'
 [ ! -e x ] && pass "nothing written for a bad --formats" || fail "x written"
+expect_exit 2 "a format listed twice refused" -- "$CAVESIM" run s.toml --out x --formats glb,glb -q
+stderr_has 'formats "glb,glb": "glb" is listed twice'
+[ ! -e x ] && pass "nothing written for a repeated --formats entry" || fail "x written"
 expect_exit 2 "bad --mesh-normals refused" -- "$CAVESIM" run s.toml --out y --mesh-normals sideways -q
 sed 's/^image_width = 256/image_width = 256\nformats = ["glb", "ply"]/' s.toml > bad.toml
 expect_exit 2 "unknown format in the scenario refused" -- "$CAVESIM" validate bad.toml
 stderr_has "formats"
+sed 's/^image_width = 256/image_width = 256\nformats = ["glb", "glb"]/' s.toml > twice.toml
+expect_exit 2 "a format listed twice in the scenario refused" -- "$CAVESIM" validate twice.toml
+stderr_has "twice.toml:21: key 'output.formats' = [\"glb\", \"glb\"]: must be an array of distinct formats"
 finish

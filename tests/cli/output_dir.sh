@@ -51,7 +51,8 @@ expect_exit 0 "run next to a leading-zero name" -- "$CAVESIM" run s.toml --out z
 [ -d .zero.partial-0999999 ] && pass "leading-zero name left alone" || fail "removed .zero.partial-0999999"
 sed 's/^enabled = false/enabled = true\nmax_graph_voxels = 1/' s.toml > bad.toml
 expect_exit 2 "a run that fails after creating parents for --out" -- "$CAVESIM" run bad.toml --out newp/q/x -q
-stderr_has "max_graph_voxels"
+graph_line=$(grep -n '^max_graph_voxels = ' bad.toml | cut -d: -f1)
+stderr_has "bad.toml:$graph_line: key 'stage1.max_graph_voxels' = 1: "
 [ ! -e newp ] && pass "no parents left behind" || fail "newp/ left behind"
 long=$(printf 'a%.0s' $(seq 250))
 expect_exit 0 "a 250-byte --out name" -- "$CAVESIM" run s.toml --out "$long" -q

@@ -46,7 +46,7 @@ protected:
 
 TEST(FormatSet, ParsesListsAllAndNone) {
     EXPECT_EQ(toString(parseFormatSet("all")), "glb,vtk,stl,svx,th,gocad,csv,vdb");
-    EXPECT_EQ(toString(parseFormatSet(" vdb , glb,glb")), "glb,vdb");
+    EXPECT_EQ(toString(parseFormatSet(" vdb , glb")), "glb,vdb");
     EXPECT_EQ(toString(parseFormatSet("none")), "none");
     EXPECT_TRUE(parseFormatSet("none").empty());
     EXPECT_EQ(toString(parseFormatSet(kDefaultFormats)), "glb,vtk,svx,csv");
@@ -63,6 +63,24 @@ TEST(FormatSet, NoneStandsAlone) {
         } catch (const InputError& e) {
             EXPECT_NE(std::string(e.what()).find("\"none\" stands alone"), std::string::npos) << e.what();
         }
+    }
+}
+
+TEST(FormatSet, RefusesAFormatListedTwice) {
+    // As the scenario's [output] formats, which must list distinct values.
+    for (const char* list : {"glb,glb", "vtk, csv,vtk", "all,glb"}) {
+        try {
+            parseFormatSet(list);
+            ADD_FAILURE() << list;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("is listed twice"), std::string::npos) << e.what();
+        }
+    }
+    try {
+        parseFormatSet("glb,glb");
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "formats \"glb,glb\": \"glb\" is listed twice (give each format once; \"all\" lists every one)");
     }
 }
 

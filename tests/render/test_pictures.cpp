@@ -8,9 +8,9 @@
 #include "core/error.h"
 #include "render/colormap.h"
 #include "render/pictures.h"
-#include "sim/cave.h"
 #include "render/png_io.h"
 #include "render/view.h"
+#include "sim/cave.h"
 
 namespace cavesim::render {
 namespace {
@@ -99,7 +99,8 @@ TEST(FieldPictures, SectionPressureHasTheColourOfItsValue) {
 TEST(FieldPictures, BlockPicturesHaveTwoPanelsAndLogFlow) {
     const Domain d = twoZones({30, 20, 6});
     const int width = 500;
-    const Image p = pressurePicture(d, caveMask(d, CaveExtent::kChannels), width), fl = flowPicture(d, caveMask(d, CaveExtent::kChannels), width);
+    const Image p = pressurePicture(d, caveMask(d, CaveExtent::kChannels), width),
+                fl = flowPicture(d, caveMask(d, CaveExtent::kChannels), width);
     expectReadable(p, width);
     expectReadable(fl, width);
     const Frame plan = makeFrame(View::kPlan, d.dims, d.voxelSize, width, 2);
@@ -160,6 +161,20 @@ TEST(ComposeStrip, FramesSideBySideOrInRows) {
     EXPECT_THROW(composeStrip({}, 1), InternalError);
     EXPECT_THROW(composeStrip(frames, 0), InternalError);
     EXPECT_THROW(composeStrip({Image()}, 1), InternalError);
+}
+
+TEST(FracturesPicture, LabelShowsWhatCannotBeEstimatedAsNotAvailable) {
+    FractureFamilyStats st;
+    st.meanDipDirection = 45;
+    st.meanDip = 7;
+    st.kappaEstimate = 0;  // what the measurement leaves for fewer than 2 discs
+    st.count = 1;
+    EXPECT_EQ(fractureFamilyLabel(0, st), "family 1: 1 discs, measured dip direction/dip 045/07, kappa n/a");
+    st.count = 0;
+    EXPECT_EQ(fractureFamilyLabel(1, st), "family 2: 0 discs, measured dip direction/dip n/a, kappa n/a");
+    st.count = 12;
+    st.kappaEstimate = 31.6;
+    EXPECT_EQ(fractureFamilyLabel(2, st), "family 3: 12 discs, measured dip direction/dip 045/07, kappa 32");
 }
 
 TEST(Pictures, RejectBadWidths) {

@@ -419,6 +419,24 @@ TEST(Recharge, BadRechargeIsAnErrorNamingTheKey) {
     EXPECT_EQ(err("count = 2\n"), "");
 }
 
+TEST(Recharge, SinkholeKeysOnAnotherKindAreRefusedAndNotWritten) {
+    const auto err = [](const std::string& entry) { return errorOf(std::string(kBlock) + "[[recharge]]\n" + entry); };
+    const std::string stream = "kind = \"stream\"\npoints = [[1.0, 1.0, 11.0], [9.0, 1.0, 11.0]]\n";
+    // Line 11 is the entry's header: the key is on the line after the entry's two lines.
+    EXPECT_EQ(err(stream + "count = 5\n"),
+              "bad.toml:14: key 'recharge.count' = 5: only sinkholes take a count; leave it out for this kind");
+    EXPECT_EQ(err(stream + "radius = 0\n"),
+              "bad.toml:14: key 'recharge.radius' = 0: only sinkholes take a radius; leave it out for this kind");
+    EXPECT_NE(err("kind = \"diffuse\"\ncount = 3\n").find("key 'recharge.count' = 3: only sinkholes"),
+              std::string::npos);
+    EXPECT_EQ(err("kind = \"sinkholes\"\ncount = 3\nradius = 1\n"), "");
+    // The effective scenario leaves them out, so it reads back.
+    const Scenario s = parseScenarioString(std::string(kBlock) + "[[recharge]]\n" + stream, "s.toml");
+    const std::string text = scenarioToToml(s);
+    EXPECT_EQ(text.find("\ncount ="), std::string::npos) << text;
+    EXPECT_EQ(text.find("\nradius ="), std::string::npos) << text;
+}
+
 TEST(Inception, HorizonRaisesStage1CapacityAndLowersTheStage2Rate) {
     const std::string base = R"(name = "i"
 seed = 2
