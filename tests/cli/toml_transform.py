@@ -87,6 +87,7 @@ def main():
         raise SystemExit("mode must be mirror or pad")
     doc.setdefault("output", {})["images"] = False
     doc["output"]["mesh"] = False
+    doc.get("stage2", {}).pop("snapshots", None)  # pictures of the state: none without images
     open(dst, "w").write(write(doc))
 
 
