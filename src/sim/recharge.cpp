@@ -20,6 +20,7 @@ constexpr std::size_t kMaxSources = 256;
 /// "file:line: key 'k' = value: allowed".
 [[noreturn]] void fail(const Scenario& s, int line, const void* field, const std::string& value,
                        const std::string& allowed) {
+    if (const int own = keyLine(s, field); own > 0) line = own;  // the key's line, else its entry's
     std::ostringstream os;
     os << s.path;
     if (line > 0) os << ":" << line;

@@ -41,13 +41,15 @@ std::vector<SourceSpec> rechargeSources(const Scenario& scenario, std::vector<st
 /// `[site] springs` voxel), no input on a column that a `[site] dem` leaves all air. Called by the
 /// scenario check (without the site's data: inputs on the top layer) and again by
 /// `site::loadSite` once the land surface is known.
-/// @throw InputError naming the file, the entry's line, the key, its value and what is allowed
+/// @throw InputError naming the file, the key's line (the entry's when the file leaves the key out), the key, its value
+/// and what is allowed
 void validateRecharge(const Scenario& scenario);
 
 /// Checks every `[[rock.fracture_family]]` entry against the block (sim/fractures.h): min_length
 /// ≤ max_length, min_length and spacing at most the block's longest side, exactly one of spacing and
 /// density, between 1 and 10⁶ discs.
-/// @throw InputError naming the file, the entry's line, the key, its value and what is allowed
+/// @throw InputError naming the file, the key's line (the entry's when the file leaves the key out), the key, its value
+/// and what is allowed
 void validateFractureFamilies(const Scenario& scenario);
 
 }  // namespace cavesim

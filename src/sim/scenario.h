@@ -173,8 +173,9 @@ struct Scenario {
     SpeleothemOptions speleothems;
 
     std::string path;  ///< file it came from ("<built-in>" for the default)
-    /// Line of each key of a plain table (not a table of arrays) the file gives, by dotted key
-    /// (`stage1.max_graph_voxels`), for messages raised after reading (see `keyLine`).
+    /// Line of each key the file gives, by dotted key (`stage1.max_graph_voxels`; an entry of a
+    /// table of arrays with its 0-based index: `rock.fracture_family.min_length[1]`), for messages
+    /// raised after reading (see `keyLine`).
     std::map<std::string, int> keyLines;
 };
 

@@ -309,7 +309,13 @@ struct ParseContext {
     Scenario& s;
     const std::string& file;
     std::size_t channelPoints = 0;  // all polylines together: the effective scenario rewrites each
+    std::size_t entry = 0;          // index of the table-of-arrays entry being read (keyLines)
 };
+
+/// The `Scenario::keyLines` name of `key` of `section`: entries of a table of arrays carry their index.
+std::string lineKey(const ParamSection& section, const std::string& key, std::size_t entry) {
+    return section.qualified(key) + (section.isArray ? "[" + std::to_string(entry) + "]" : std::string());
+}
 
 /// The `box` entry of a source or sink section (the one after `at`).
 const Param& boxEntry(const ParamSection& section) {
@@ -374,7 +380,7 @@ void readParam(TableReader& r, const ParamSection& section, const Param& p, void
     const std::string& key = p.key;
     const toml::node* n = r.get(key);
     if (!n && p.required) r.fail(key, nullptr, "is required: " + p.shapeText);
-    if (n && !section.isArray) ctx.s.keyLines[section.qualified(key)] = int(n->source().begin.line);
+    if (n) ctx.s.keyLines[lineKey(section, key, ctx.entry)] = int(n->source().begin.line);
     if (n) readValue(r, section, p, *n, record, ctx);
     const Param& pRateChannel = entryOf([](Scenario& s) { return &s.stage2.pRateChannel; });
     if (&p == &pRateChannel) {
@@ -539,7 +545,10 @@ void readSection(const ParamSection& section, const toml::table& table, TableRea
                 TableReader er(*t, child.path, ctx.file);
                 void* rec = child.append(ctx.s);
                 if (child.setLine) child.setLine(rec, int(t->source().begin.line));
+                const std::size_t outer = ctx.entry;
+                ctx.entry = entries - 1;
                 readSection(child, *t, er, rec, ctx);
+                ctx.entry = outer;
             }
         } else if (const toml::table* t = r.subtable(key)) {
             TableReader cr(*t, child.path, ctx.file);
@@ -839,8 +848,14 @@ std::string scenarioKey(const Scenario& s, const void* field) {
 }
 
 int keyLine(const Scenario& s, const void* field) {
-    const auto it = s.keyLines.find(scenarioKey(s, field));
-    return it == s.keyLines.end() ? 0 : it->second;
+    for (const ParamSection& section : scenarioParameters())
+        for (std::size_t i = 0; i < section.count(s); ++i)
+            for (const Param& p : section.params)
+                if (p.address(section.record(s, i)) == field) {
+                    const auto it = s.keyLines.find(lineKey(section, p.key, i));
+                    return it == s.keyLines.end() ? 0 : it->second;
+                }
+    return 0;
 }
 
 Scenario defaultScenario() {

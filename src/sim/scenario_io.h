@@ -44,9 +44,9 @@ std::string scenarioToToml(const Scenario& scenario);
 /// @throw InternalError if `field` is not a registered field of `scenario`
 std::string scenarioKey(const Scenario& scenario, const void* field);
 
-/// The line in `scenario`'s file of the key of the field at address `field` (a key of a plain
-/// table, not of a table of arrays), or 0 when the file does not give it.
-/// @throw InternalError if `field` is not a registered field of `scenario`
+/// The line in `scenario`'s file of the key of the field at address `field` (in a plain table or
+/// in an entry of a table of arrays), or 0 when the file does not give it (or `field` is not a
+/// registered field).
 int keyLine(const Scenario& scenario, const void* field);
 
 /// The built-in default scenario (the Figure 10 scenario, scenarios/fig10.toml).

@@ -180,7 +180,8 @@ min_length = 40.0
 max_length = 60.0
 TOML
 expect_exit 2 "fracture longer than the block" -- "$CAVESIM" run frac_long.toml --out o14
-stderr_has "frac_long.toml:21: key 'rock.fracture_family.min_length' = 40: the fracture family cannot fit"
+# The key's own line (23), not the entry's header (21).
+stderr_has "frac_long.toml:23: key 'rock.fracture_family.min_length' = 40: the fracture family cannot fit"
 [ ! -e o14 ] && pass "no output for a fracture family that cannot fit" || fail "o14 was created"
 sed 's/^min_length = 40.0/min_length = 2.0\nspacing = 30.0/' frac_long.toml > frac_sparse.toml
 expect_exit 2 "fracture spacing larger than the block" -- "$CAVESIM" validate frac_sparse.toml
@@ -206,7 +207,7 @@ at = [0, 0, 1]
 enabled = false
 TOML
 expect_exit 2 "fracture family with no disc in the block" -- "$CAVESIM" run frac_none.toml --out o18
-stderr_has "frac_none.toml:4: key 'rock.fracture_family.spacing' = 20: the fracture family cannot fit: none of its 3 discs drawn with seed 1 reaches the block"
+stderr_has "frac_none.toml:5: key 'rock.fracture_family.spacing' = 20: the fracture family cannot fit: none of its 3 discs drawn with seed 1 reaches the block"
 [ ! -e o18 ] && pass "no output for a family with no disc" || fail "o18 was created"
 grep -v -e '^\[\[source\]\]' -e '^at = ' good.toml > recharge_out.toml
 cat >> recharge_out.toml <<'TOML'

@@ -414,7 +414,13 @@ TEST(Recharge, BadRechargeIsAnErrorNamingTheKey) {
     EXPECT_NE(err("kind = \"diffuse\"\nspacing = 1.0\n").find("more than the 256 sources"), std::string::npos);
     EXPECT_NE(err("kind = \"sinkholes\"\npoints = [[1.0, 1.0, 1.0]]\n").find("only a stream takes points"),
               std::string::npos);
-    EXPECT_EQ(err("area = [0, 0, 40, 10]\n").rfind("bad.toml:11:", 0), 0u) << err("area = [0, 0, 40, 10]\n");
+    // The key's own line (12), not the entry's header (11); a rule on a key left at its default
+    // names the header.
+    EXPECT_EQ(err("area = [0, 0, 40, 10]\n").rfind("bad.toml:12:", 0), 0u) << err("area = [0, 0, 40, 10]\n");
+    EXPECT_EQ(err("area = [0, 0, 1, 1]\ncount = 5\n").rfind("bad.toml:13: key 'recharge.count'", 0), 0u)
+        << err("area = [0, 0, 1, 1]\ncount = 5\n");
+    EXPECT_EQ(err("kind = \"stream\"\n").rfind("bad.toml:11: key 'recharge.points'", 0), 0u)
+        << err("kind = \"stream\"\n");
     // A stage with recharge needs no [[source]].
     EXPECT_EQ(err("count = 2\n"), "");
 }
