@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -391,9 +390,16 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
     netOptions.jitterSeed = rng();
     flownet::TraceOptions traceOptions;
     traceOptions.minThroughFraction = g.branchFlow;
+    // Zones done of all, from worker threads one at a time; also before every max-flow phase (a safe
+    // point: the progress callback may stop the run there).
     std::mutex progressMutex;
-    std::atomic<long> done{0};
-    reportProgress(progress, "stage 1: flow networks", 0, long(nSources));
+    long done = 0;
+    const auto networkProgress = [&](long finished) {
+        std::lock_guard<std::mutex> lock(progressMutex);
+        done += finished;
+        reportProgress(progress, "stage 1: flow networks", done, long(nSources));
+    };
+    networkProgress(0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nSources, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t z = r.begin(); z != r.end(); ++z) {
             const Stopwatch tz;
@@ -402,12 +408,8 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
                 const flownet::FlowNetwork net =
                     flownet::buildFlowNetwork(porosityIn(w.frame), w.voxels, w.sources, w.protosinks, netOptions);
                 w.stats.buildSeconds = tz.seconds();
-                // Every phase is a safe point: the progress callback may stop the run there.
                 flownet::LeastResistanceOptions solve;
-                solve.beforePhase = [&] {
-                    std::lock_guard<std::mutex> lock(progressMutex);
-                    reportProgress(progress, "stage 1: flow networks", done.load(), long(nSources));
-                };
+                solve.beforePhase = [&] { networkProgress(0); };
                 flownet::MaxFlowResult flow = flownet::leastResistanceMaxFlow(net, solve);
                 w.stats.cyclesCancelled = long(flownet::cancelFlowCycles(net, flow));
                 w.stats.solveSeconds = tz.seconds() - w.stats.buildSeconds;
@@ -426,8 +428,7 @@ Stage1Result runStage1(Domain& domain, const Stage1Options& g, Rng& rng, const P
                 w.stats.protochannelVoxels = long(w.traced.size());
             }
             w.stats.seconds = tz.seconds();
-            std::lock_guard<std::mutex> lock(progressMutex);
-            reportProgress(progress, "stage 1: flow networks", ++done, long(nSources));
+            networkProgress(1);
         }
     });
 
