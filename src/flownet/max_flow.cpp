@@ -78,6 +78,14 @@ void checkNetwork(const FlowNetwork& net) {
                       std::to_string(net.arcCount()) + " arcs)");
 }
 
+/// Cost `w` and residual (returned) of pushing along an arc with net flow `fa`, capacity `cap`
+/// and resistance `res`: first cancel flow running the other way (refunding its resistance),
+/// then add flow (paying it).
+double residualOf(double fa, double cap, double res, double& w) {
+    w = fa < 0 ? -res : res;
+    return fa < 0 ? -fa : cap - fa;
+}
+
 template <typename T>
 std::size_t bytesOf(const std::vector<T>& v) {
     return v.capacity() * sizeof(T);
@@ -207,10 +215,12 @@ public:
         const std::size_t keptArcs = orig_.size();
         crev_.resize(keptArcs);
         res_.resize(keptArcs);
-        for (std::size_t k = 0; k < keptArcs; ++k) crev_[k] = compactOf_[rev[orig_[k]]];
-        for (std::size_t k = 0; k < keptArcs; ++k)
-            CAVESIM_CHECK(crev_[k] < keptArcs && orig_[crev_[k]] == rev[orig_[k]],
+        for (std::size_t k = 0; k < keptArcs; ++k) {
+            const ArcId b = rev[orig_[k]];
+            crev_[k] = compactOf_[b];
+            CAVESIM_CHECK(crev_[k] < keptArcs && orig_[crev_[k]] == b,
                           "leastResistanceMaxFlow: a phase kept an arc without its reverse");
+        }
 
         Graph g(boost::edges_are_sorted, ArcPairIterator(net, 0, keptArcs, orig_.data(), nodeMap_.data()),
                 ArcPairIterator(net, keptArcs, keptArcs), kept);
@@ -339,19 +349,6 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     const double* const sinkCostOf = sinkCost.data();
     const NodeId sink = net.sink;
     double* const f = flow.data();
-    // Arc cost w and residual r of pushing along arc a (tail ≠ sink, head v) given the current
-    // net flow: first cancel flow running the other way (refunding its resistance), then add
-    // flow (paying it).
-    const auto residualOf = [&](ArcId a, NodeId v, double& w) {
-        const double res = v == sink ? sinkCostOf[arcReverse[a] - sinkBegin] : resistance[a];
-        const double fa = f[a];
-        if (fa < 0) {
-            w = -res;
-            return -fa;
-        }
-        w = res;
-        return capacity[a] - fa;
-    };
 
     // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off).
     // The heap (4-ary, storage reused by every phase) holds (distance, node) entries that are all
@@ -407,22 +404,15 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
             const double pu = p[u];
             for (ArcId a = first[u], end = first[u + 1]; a < end; ++a) {
                 const NodeId v = head[a];
-                double w;
+                double resV;
                 if (v == to) {
                     if (!throughSink) continue;
-                    w = sc[rev[a] - scBegin];
+                    resV = sc[rev[a] - scBegin];
                 } else {
-                    w = res[a];
+                    resV = res[a];
                 }
-                const double fa = fl[a];
-                double r;
-                if (fa < 0) {
-                    w = -w;
-                    r = -fa;
-                } else {
-                    r = cap[a] - fa;
-                }
-                if (r <= eps) continue;
+                double w;
+                if (residualOf(fl[a], cap[a], resV, w) <= eps) continue;
                 const double nd = du + std::max(0.0, w + pu - p[v]);
                 if (nd < d[v]) {
                     d[v] = nd;
@@ -524,14 +514,12 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
                 const double fa = fl[a];
                 double c;
                 if (u >= voxels || v >= voxels || keepAll) {  // terminal pairs are always kept
+                    // Resistance: the sink's own arcs and the arcs into it have the sink costs.
+                    const double resA = a >= sinkBegin ? sinkCostOf[a - sinkBegin]
+                                        : v == sink    ? sinkCostOf[arcReverse[a] - sinkBegin]
+                                                       : res[a];
                     double w;
-                    double r;
-                    if (a >= sinkBegin) {  // the sink's own arcs
-                        w = fa < 0 ? -sinkCostOf[a - sinkBegin] : sinkCostOf[a - sinkBegin];
-                        r = fa < 0 ? -fa : cp[a] - fa;
-                    } else {
-                        r = residualOf(a, v, w);
-                    }
+                    const double r = residualOf(fa, cp[a], resA, w);
                     c = r > flowEps && w + pu - p[v] <= tol ? r : 0.0;
                 } else {
                     // Between voxels: this arc costs w, its reverse (flow −fa, same resistance) wb.
