@@ -25,8 +25,10 @@ using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_pro
                                                  boost::no_property, NodeId, ArcId>;
 using Edge = boost::graph_traits<Graph>::edge_descriptor;
 
-/// Walks the network's arcs in CSR order as (tail, head) pairs: the sorted edge list Boost's CSR
-/// constructor reads, without materialising it.
+/// Walks arcs of the network in CSR order as (tail, head) pairs: the sorted edge list Boost's CSR
+/// constructor reads, without materialising it. The arcs are `arcs[k]` for k = 0, 1, …
+/// (increasing; all arcs in order when `arcs` is null), their nodes renumbered through
+/// `nodeMap` (kept as they are when null).
 class ArcPairIterator {
 public:
     using iterator_category = std::input_iterator_tag;
@@ -35,25 +37,34 @@ public:
     using pointer = const value_type*;
     using reference = const value_type&;
 
-    ArcPairIterator(const FlowNetwork& net, ArcId arc) : net_(&net), arc_(arc) { settle(); }
+    ArcPairIterator(const FlowNetwork& net, std::size_t k, std::size_t count, const ArcId* arcs = nullptr,
+                    const NodeId* nodeMap = nullptr)
+        : net_(&net), arcs_(arcs), nodeMap_(nodeMap), k_(k), count_(count) {
+        settle();
+    }
     reference operator*() const { return pair_; }
     pointer operator->() const { return &pair_; }
     ArcPairIterator& operator++() {
-        ++arc_;
+        ++k_;
         settle();
         return *this;
     }
-    bool operator==(const ArcPairIterator& o) const { return arc_ == o.arc_; }
-    bool operator!=(const ArcPairIterator& o) const { return arc_ != o.arc_; }
+    bool operator==(const ArcPairIterator& o) const { return k_ == o.k_; }
+    bool operator!=(const ArcPairIterator& o) const { return k_ != o.k_; }
 
 private:
     void settle() {
-        if (arc_ >= net_->arcCount()) return;
-        while (net_->arcBegin[tail_ + 1] <= arc_) ++tail_;
-        pair_ = {tail_, net_->arcTarget[arc_]};
+        if (k_ >= count_) return;
+        const ArcId a = arcs_ ? arcs_[k_] : ArcId(k_);
+        while (net_->arcBegin[tail_ + 1] <= a) ++tail_;
+        const NodeId head = net_->arcTarget[a];
+        pair_ = nodeMap_ ? value_type{nodeMap_[tail_], nodeMap_[head]} : value_type{tail_, head};
     }
     const FlowNetwork* net_;
-    ArcId arc_;
+    const ArcId* arcs_;
+    const NodeId* nodeMap_;
+    std::size_t k_;
+    std::size_t count_;
     NodeId tail_ = 0;
     value_type pair_{0, 0};
 };
@@ -65,6 +76,14 @@ void checkNetwork(const FlowNetwork& net) {
                       net.sink == NodeId(net.voxelNodes + 1),
                   "maxFlow: malformed flow network (" + std::to_string(net.nodeCount()) + " nodes, " +
                       std::to_string(net.arcCount()) + " arcs)");
+}
+
+/// Cost `w` and residual (returned) of pushing along an arc with net flow `fa`, capacity `cap`
+/// and resistance `res`: first cancel flow running the other way (refunding its resistance),
+/// then add flow (paying it).
+double residualOf(double fa, double cap, double res, double& w) {
+    w = fa < 0 ? -res : res;
+    return fa < 0 ? -fa : cap - fa;
 }
 
 template <typename T>
@@ -89,8 +108,8 @@ class BoostSolver {
 public:
     explicit BoostSolver(const FlowNetwork& net)
         : net_(net),
-          g_(boost::edges_are_sorted, ArcPairIterator(net, 0), ArcPairIterator(net, ArcId(net.arcCount())),
-             net.nodeCount()),
+          g_(boost::edges_are_sorted, ArcPairIterator(net, 0, net.arcCount()),
+             ArcPairIterator(net, net.arcCount(), net.arcCount()), net.nodeCount()),
           predecessor_(net.nodeCount()),
           color_(net.nodeCount()),
           distance_(net.nodeCount(), 0) {}
@@ -196,12 +215,15 @@ public:
         const std::size_t keptArcs = orig_.size();
         crev_.resize(keptArcs);
         res_.resize(keptArcs);
-        for (std::size_t k = 0; k < keptArcs; ++k) crev_[k] = compactOf_[rev[orig_[k]]];
-        for (std::size_t k = 0; k < keptArcs; ++k)
-            CAVESIM_CHECK(crev_[k] < keptArcs && orig_[crev_[k]] == rev[orig_[k]],
+        for (std::size_t k = 0; k < keptArcs; ++k) {
+            const ArcId b = rev[orig_[k]];
+            crev_[k] = compactOf_[b];
+            CAVESIM_CHECK(crev_[k] < keptArcs && orig_[crev_[k]] == b,
                           "leastResistanceMaxFlow: a phase kept an arc without its reverse");
+        }
 
-        Graph g(boost::edges_are_sorted, CompactPairIterator(*this, 0), CompactPairIterator(*this, orig_.size()), kept);
+        Graph g(boost::edges_are_sorted, ArcPairIterator(net, 0, keptArcs, orig_.data(), nodeMap_.data()),
+                ArcPairIterator(net, keptArcs, keptArcs), kept);
         predecessor_.resize(kept);
         color_.resize(kept);
         distance_.assign(kept, 0);
@@ -250,40 +272,6 @@ public:
     }
 
 private:
-    /// The kept arcs as (tail, head) pairs in compacted numbering, for Boost's CSR constructor.
-    class CompactPairIterator {
-    public:
-        using iterator_category = std::input_iterator_tag;
-        using value_type = std::pair<NodeId, NodeId>;
-        using difference_type = std::ptrdiff_t;
-        using pointer = const value_type*;
-        using reference = const value_type&;
-
-        CompactPairIterator(const PhaseSolver& s, std::size_t k) : s_(&s), k_(k) { settle(); }
-        reference operator*() const { return pair_; }
-        pointer operator->() const { return &pair_; }
-        CompactPairIterator& operator++() {
-            ++k_;
-            settle();
-            return *this;
-        }
-        bool operator==(const CompactPairIterator& o) const { return k_ == o.k_; }
-        bool operator!=(const CompactPairIterator& o) const { return k_ != o.k_; }
-
-    private:
-        void settle() {
-            if (k_ >= s_->orig_.size()) return;
-            const FlowNetwork& net = s_->net_;
-            const ArcId a = s_->orig_[k_];
-            while (net.arcBegin[tail_ + 1] <= a) ++tail_;
-            pair_ = {s_->nodeMap_[tail_], s_->nodeMap_[net.arcTarget[a]]};
-        }
-        const PhaseSolver* s_;
-        std::size_t k_;
-        NodeId tail_ = 0;
-        value_type pair_{0, 0};
-    };
-
     /// The reverse of a compacted arc as a Boost edge descriptor.
     struct CompactReverse {
         const Graph* g;
@@ -361,19 +349,6 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     const double* const sinkCostOf = sinkCost.data();
     const NodeId sink = net.sink;
     double* const f = flow.data();
-    // Arc cost w and residual r of pushing along arc a (tail ≠ sink, head v) given the current
-    // net flow: first cancel flow running the other way (refunding its resistance), then add
-    // flow (paying it).
-    const auto residualOf = [&](ArcId a, NodeId v, double& w) {
-        const double res = v == sink ? sinkCostOf[arcReverse[a] - sinkBegin] : resistance[a];
-        const double fa = f[a];
-        if (fa < 0) {
-            w = -res;
-            return -fa;
-        }
-        w = res;
-        return capacity[a] - fa;
-    };
 
     // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off).
     // The heap (4-ary, storage reused by every phase) holds (distance, node) entries that are all
@@ -429,22 +404,15 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
             const double pu = p[u];
             for (ArcId a = first[u], end = first[u + 1]; a < end; ++a) {
                 const NodeId v = head[a];
-                double w;
+                double resV;
                 if (v == to) {
                     if (!throughSink) continue;
-                    w = sc[rev[a] - scBegin];
+                    resV = sc[rev[a] - scBegin];
                 } else {
-                    w = res[a];
+                    resV = res[a];
                 }
-                const double fa = fl[a];
-                double r;
-                if (fa < 0) {
-                    w = -w;
-                    r = -fa;
-                } else {
-                    r = cap[a] - fa;
-                }
-                if (r <= eps) continue;
+                double w;
+                if (residualOf(fl[a], cap[a], resV, w) <= eps) continue;
                 const double nd = du + std::max(0.0, w + pu - p[v]);
                 if (nd < d[v]) {
                     d[v] = nd;
@@ -546,14 +514,12 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
                 const double fa = fl[a];
                 double c;
                 if (u >= voxels || v >= voxels || keepAll) {  // terminal pairs are always kept
+                    // Resistance: the sink's own arcs and the arcs into it have the sink costs.
+                    const double resA = a >= sinkBegin ? sinkCostOf[a - sinkBegin]
+                                        : v == sink    ? sinkCostOf[arcReverse[a] - sinkBegin]
+                                                       : res[a];
                     double w;
-                    double r;
-                    if (a >= sinkBegin) {  // the sink's own arcs
-                        w = fa < 0 ? -sinkCostOf[a - sinkBegin] : sinkCostOf[a - sinkBegin];
-                        r = fa < 0 ? -fa : cp[a] - fa;
-                    } else {
-                        r = residualOf(a, v, w);
-                    }
+                    const double r = residualOf(fa, cp[a], resA, w);
                     c = r > flowEps && w + pu - p[v] <= tol ? r : 0.0;
                 } else {
                     // Between voxels: this arc costs w, its reverse (flow −fa, same resistance) wb.
