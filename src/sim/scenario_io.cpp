@@ -655,8 +655,7 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
                          "' = " + std::to_string(sp.frames) + ": growth frames are pictures, and '" +
                          scenarioKey(s, &s.output.images) +
                          "' = false writes none: leave the key out (or 0) or set images = true");
-    const toml::node* snapshots = root.at_path("stage2.snapshots").node();
-    checkSnapshots(s, snapshots ? int(snapshots->source().begin.line) : 0);
+    checkSnapshots(s, keyLine(s, &s.stage2.snapshots));
     validateScenario(s);
     return s;
 }
