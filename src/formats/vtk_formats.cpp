@@ -44,14 +44,15 @@ std::string originText(const std::array<double, 3>& origin) {
     return detail::num(origin[0]) + " " + detail::num(origin[1]) + " " + detail::num(origin[2]);
 }
 
-// A VTK XML ImageData file of the cells of `d` (voxel edge `voxelSize` metres, low corner at
-// `origin`): `cellArrays` (DataArray elements, `scalars` the active one) whose values are the raw
-// `appended` block.
 /// The XML around an ImageData file's appended data: `head` ends with the "_" that starts it,
 /// `tail` closes the file; the appended bytes go between them.
 struct ImageXml {
     std::string head, tail;
 };
+
+// The XML of a VTK XML ImageData file of the cells of `d` (voxel edge `voxelSize` metres, low
+// corner at `origin`): `cellArrays` (DataArray elements, `scalars` the active one) whose values
+// are the raw appended block written between its head and tail.
 
 ImageXml imageData(const Dims& d, const std::string& origin, double voxelSize, const std::string& fields,
                    const std::string& scalars, const std::string& cellArrays) {
@@ -101,9 +102,8 @@ void writeStateVti(const Domain& domain, const std::string& path, const Cave* ca
     // needs no copy of the grids in memory (26 bytes a voxel at 10⁸ voxels would be 2.6 GB).
     std::string arrays;
     std::vector<std::string> units;
-    std::vector<std::uint64_t> sizes;  // reserved below: the pieces point into it
+    std::vector<std::uint64_t> sizes;  // each array's size prefix
     std::vector<std::string_view> values;
-    sizes.reserve(8);
     std::uint64_t offset = 0;
     auto add = [&](const auto& grid, const std::string& name, const std::string& unit) {
         using T = typename std::decay_t<decltype(grid.data)>::value_type;

@@ -135,14 +135,13 @@ double fractureCount(const FractureFamily& f, const Dims& dims) {
 namespace {
 
 /// Draws one disc of family `f` (centre, pole, diameter: four draws and one of the length) into
-/// `d` and `length`; whether its axis-aligned extent overlaps the block.
-bool drawDisc(const FractureFamily& f, const Vec3d& mean, double grow, const double size[3], Rng& rng, FractureDisc& d,
-              double& length) {
+/// `d`; whether its axis-aligned extent overlaps the block.
+bool drawDisc(const FractureFamily& f, const Vec3d& mean, double grow, const double size[3], Rng& rng,
+              FractureDisc& d) {
     for (int ax = 0; ax < 3; ++ax)
         d.centre[ax] = -0.5 - grow + (uniformOpen01(rng) - 0x1.0p-54) * (size[ax] + 2 * grow);
     d.normal = sampleFisher(mean, f.kappa, rng);
-    length = samplePowerLaw(f.lengthExponent, f.minLength, f.maxLength, rng);
-    d.radius = 0.5 * length;
+    d.radius = 0.5 * samplePowerLaw(f.lengthExponent, f.minLength, f.maxLength, rng);
     bool reaches = true;
     for (int ax = 0; ax < 3; ++ax) {
         const double extent = d.radius * std::sqrt(std::max(0.0, 1.0 - d.normal[ax] * d.normal[ax]));
@@ -163,8 +162,7 @@ bool fractureFamilyReachesBlock(const std::vector<FractureFamily>& families, std
     const double grow = drawMargin(f);
     for (long n = 0; n < long(count); ++n) {
         FractureDisc d;
-        double length = 0;
-        if (drawDisc(f, mean, grow, size, rng, d, length)) return true;
+        if (drawDisc(f, mean, grow, size, rng, d)) return true;
     }
     return false;
 }
@@ -186,10 +184,9 @@ FractureNetwork generateFractureNetwork(const std::vector<FractureFamily>& famil
         for (long n = 0; n < long(count); ++n) {
             FractureDisc d;
             d.family = int(fi);
-            double length = 0;
-            if (!drawDisc(f, mean, grow, size, rng, d, length)) continue;
+            if (!drawDisc(f, mean, grow, size, rng, d)) continue;
             ++st.count;
-            lengthSum += length;
+            lengthSum += 2 * d.radius;  // the diameter drawn (halving and doubling are exact)
             areaSum += kPi * d.radius * d.radius;
             poles.push_back(d.normal);
             net.discs.push_back(d);

@@ -976,12 +976,18 @@ const ParamSection& paramSection(const std::string& path) {
     throw RuntimeError("parameter registry: no section '" + path + "'");
 }
 
-std::pair<const ParamSection*, const Param*> findParam(const Scenario& scenario, const void* field) {
+std::optional<ParamLocation> locateParam(const Scenario& scenario, const void* field) {
     for (const ParamSection& s : scenarioParameters())
         for (std::size_t i = 0; i < s.count(scenario); ++i)
             for (const Param& p : s.params)
-                if (p.address(s.record(scenario, i)) == field) return {&s, &p};
-    throw RuntimeError("parameter registry: not a registered field");
+                if (p.address(s.record(scenario, i)) == field) return ParamLocation{&s, &p, i};
+    return std::nullopt;
+}
+
+std::pair<const ParamSection*, const Param*> findParam(const Scenario& scenario, const void* field) {
+    const std::optional<ParamLocation> at = locateParam(scenario, field);
+    if (!at) throw RuntimeError("parameter registry: not a registered field");
+    return {at->section, at->param};
 }
 
 namespace {

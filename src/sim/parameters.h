@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -130,6 +131,18 @@ const std::vector<ParamSection>& scenarioParameters();
 
 /// The section at `path` ("stage2", "rock.sphere"); throws RuntimeError when there is none.
 const ParamSection& paramSection(const std::string& path);
+
+/// Where a field of a scenario is registered: its section, its entry, and which record of the
+/// section holds it (0 for a plain table; the entry's index in a table of arrays).
+struct ParamLocation {
+    const ParamSection* section = nullptr;
+    const Param* param = nullptr;
+    std::size_t record = 0;
+};
+
+/// The location of the field at address `field` of `scenario`, or nothing when it is not a
+/// registered field.
+std::optional<ParamLocation> locateParam(const Scenario& scenario, const void* field);
 
 /// The section and entry of the field at address `field` of `scenario` (a table's member only).
 /// @throw RuntimeError if `field` is not a registered field

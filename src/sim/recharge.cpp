@@ -42,17 +42,14 @@ std::string pointsText(const std::vector<Vec3d>& v) {
     return out + (v.size() > 3 ? ", ...]" : "]");
 }
 
-const char* kindText(RechargeKind k) {
-    return k == RechargeKind::kSinkholes ? "sinkholes" : k == RechargeKind::kDiffuse ? "diffuse" : "stream";
+/// The entry's `kind` as the file gives it, quoted: "\"sinkholes\"".
+std::string kindValue(RechargeKind k) {
+    return k == RechargeKind::kSinkholes ? "\"sinkholes\"" : k == RechargeKind::kDiffuse ? "\"diffuse\"" : "\"stream\"";
 }
 
 /// A uniform integer in [0, n) from one draw (the high half of draw × n).
 std::size_t uniformIndex(Rng& rng, std::size_t n) {
     return std::size_t((static_cast<unsigned __int128>(rng()) * n) >> 64);
-}
-
-std::string kindName(RechargeKind kind) {
-    return kind == RechargeKind::kSinkholes ? "sinkholes" : kind == RechargeKind::kDiffuse ? "diffuse" : "stream";
 }
 
 struct Area {
@@ -72,18 +69,14 @@ SourceSpec oneVoxel(int i, int j, int k, double pressure, int line) {
     return src;
 }
 
-/// The highest rock voxel of column (i, j): the top layer, or with a `[site] dem` the highest voxel
-/// whose centre is not above the land surface (the rule that makes the voxels above it air,
-/// domain.cpp). A column whose every voxel is air is an error naming the entry.
+/// The highest rock voxel of column (i, j): the top layer, or with a `[site] dem` its
+/// landSurfaceLayer. A column whose every voxel is air is an error naming the entry.
 int landTop(const Scenario& s, const RechargeSpec& r, int i, int j) {
-    const int nz = s.size[2];
-    if (!s.siteData || s.siteData->landSurface.empty()) return nz - 1;
+    if (!s.siteData || s.siteData->landSurface.empty()) return s.size[2] - 1;
     const double land = s.siteData->landSurface[std::size_t(i) + std::size_t(s.size[0]) * std::size_t(j)];
-    const double z0 = s.site.origin[2], h = s.voxelSize;
-    int k = nz - 1;
-    while (k >= 0 && z0 + (k + 0.5) * h > land) --k;
+    const int k = landSurfaceLayer(s, land);
     if (k < 0)
-        fail(s, r.line, &r.kind, "\"" + std::string(kindText(r.kind)) + "\"",
+        fail(s, r.line, &r.kind, kindValue(r.kind),
              "an input falls on column x " + std::to_string(i) + ", y " + std::to_string(j) +
                  ", where the land surface ([site] dem, " + shortestText(land) +
                  " m) lies below every voxel centre: the column is air");
@@ -178,6 +171,13 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
 }
 
 }  // namespace
+
+int landSurfaceLayer(const Scenario& s, double land) {
+    const double z0 = s.site.origin[2], h = s.voxelSize;
+    int k = s.size[2] - 1;
+    while (k >= 0 && z0 + (k + 0.5) * h > land) --k;
+    return k;
+}
 
 std::vector<SourceSpec> rechargeSources(const Scenario& s, std::vector<std::size_t>* perEntry) {
     std::vector<SourceSpec> all;
@@ -275,7 +275,7 @@ void validateRecharge(const Scenario& s) {
         for (const SourceSpec& src : part)
             for (std::size_t j = 0; j < s.sinks.size(); ++j) {
                 if (boxesOverlap(src.box, s.sinks[j].box))
-                    fail(s, r.line, &r.kind, "\"" + kindName(r.kind) + "\" (entry " + std::to_string(e + 1) + ")",
+                    fail(s, r.line, &r.kind, kindValue(r.kind) + " (entry " + std::to_string(e + 1) + ")",
                          "an input at [" + std::to_string(src.box.lo[0]) + ", " + std::to_string(src.box.lo[1]) + ", " +
                              std::to_string(src.box.lo[2]) + "] overlaps [[sink]] entry " + std::to_string(j + 1) +
                              " (line " + std::to_string(s.sinks[j].line) + "): a voxel cannot be both source and sink");

@@ -35,6 +35,11 @@ namespace cavesim {
 ///   input's column is all air under a `[site] dem`
 std::vector<SourceSpec> rechargeSources(const Scenario& scenario, std::vector<std::size_t>* perEntry = nullptr);
 
+/// The highest layer of a column whose land surface lies at elevation `land` (world metres): the
+/// highest voxel whose centre, `site.origin` z + (k + 0.5) · voxelSize, is not above it — the rule
+/// that makes the voxels above the land air (domain.cpp); −1 when every voxel of the column is air.
+int landSurfaceLayer(const Scenario& scenario, double land);
+
 /// Checks every `[[recharge]]` entry against the block: an area inside the top face, `points`
 /// only and at least two for a stream and inside the block, sinkholes that fit, at most 256
 /// sources with the `[[source]]` entries, no input on a sink (or, once the site is loaded, on a

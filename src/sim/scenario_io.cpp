@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -654,8 +655,7 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
                          "' = " + std::to_string(sp.frames) + ": growth frames are pictures, and '" +
                          scenarioKey(s, &s.output.images) +
                          "' = false writes none: leave the key out (or 0) or set images = true");
-    const toml::node* snapshots = root.at_path("stage2.snapshots").node();
-    checkSnapshots(s, snapshots ? int(snapshots->source().begin.line) : 0);
+    checkSnapshots(s, keyLine(s, &s.stage2.snapshots));
     validateScenario(s);
     return s;
 }
@@ -848,14 +848,10 @@ std::string scenarioKey(const Scenario& s, const void* field) {
 }
 
 int keyLine(const Scenario& s, const void* field) {
-    for (const ParamSection& section : scenarioParameters())
-        for (std::size_t i = 0; i < section.count(s); ++i)
-            for (const Param& p : section.params)
-                if (p.address(section.record(s, i)) == field) {
-                    const auto it = s.keyLines.find(lineKey(section, p.key, i));
-                    return it == s.keyLines.end() ? 0 : it->second;
-                }
-    return 0;
+    const std::optional<ParamLocation> at = locateParam(s, field);
+    if (!at) return 0;
+    const auto it = s.keyLines.find(lineKey(*at->section, at->param->key, at->record));
+    return it == s.keyLines.end() ? 0 : it->second;
 }
 
 Scenario defaultScenario() {

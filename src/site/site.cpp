@@ -435,7 +435,7 @@ void loadSite(Scenario& s) {
             if (b.lo[2] + (k + 0.5) * b.h > land)
                 throw InputError(at + " lies above the land surface (" + num(land) + " m there): its voxel is air");
         } else {
-            k = std::min(nz - 1, int(std::floor((land - b.lo[2]) / b.h - 0.5)));
+            k = landSurfaceLayer(s, land);
             if (k < 0)
                 throw InputError(at + ": the land surface (" + num(land) +
                                  " m) is below every voxel centre of its column");
