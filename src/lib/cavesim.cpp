@@ -545,10 +545,7 @@ std::unique_ptr<Result::Impl> runWith(const Scenario& scenario, const cavesim::S
     hooks.beforeStage2 = [&](const Domain& d, app::RunRecord&) {
         if (!checkpointing && !resume) return;
         domainHash = app::domainFingerprint(d);
-        if (resume && domainHash != resume->domainHash)
-            throw InputError(shown +
-                             ": the domain at the start of stage 2 is not the one the checkpoint was made from (a "
-                             "file the scenario reads changed, or another version of cavesim); start the run again");
+        if (resume) app::checkResumedDomain(domainHash, *resume, shown, "start the run again");
     };
     if (resume) {
         hooks.checkpoints.resume = &resume->stage2;
