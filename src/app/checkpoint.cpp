@@ -87,6 +87,15 @@ std::uint64_t domainFingerprint(const Domain& d) {
     return h.value();
 }
 
+void checkResumedDomain(std::uint64_t domainHash, const Checkpoint& resume, const std::string& shown,
+                        const std::string& advice) {
+    if (domainHash != resume.domainHash)
+        throw InputError(shown +
+                         ": the domain at the start of stage 2 is not the one the checkpoint was made from (a "
+                         "file the scenario reads changed, or another version of cavesim); " +
+                         advice);
+}
+
 std::string encodeCheckpoint(const Checkpoint& c) {
     std::string payload;
     ByteWriter out(payload);

@@ -77,4 +77,10 @@ std::uint64_t scenarioHash(const Scenario& scenario);
 /// zone): a resumed run's stage 1 must give the same.
 std::uint64_t domainFingerprint(const Domain& domain);
 
+/// Checks that `domainHash` (domainFingerprint at the start of stage 2 of a resumed run) is the
+/// one `resume` was made from.
+/// @throw InputError naming `shown` (the checkpoint's file), ending with `advice`, when it is not
+void checkResumedDomain(std::uint64_t domainHash, const Checkpoint& resume, const std::string& shown,
+                        const std::string& advice);
+
 }  // namespace cavesim::app

@@ -136,10 +136,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
         if (!checkpointing && !options.resume) return;
         domainHash = domainFingerprint(d);
         if (!options.resume) return;
-        if (domainHash != options.resume->domainHash)
-            throw InputError(options.resumeName +
-                             ": the domain at the start of stage 2 is not the one the checkpoint was made from (a "
-                             "file the scenario reads changed, or another version of cavesim); rerun `cavesim run`");
+        checkResumedDomain(domainHash, *options.resume, options.resumeName, "rerun `cavesim run`");
         for (const auto& [path, bytes] : options.resume->files) {
             writeFileAtomic(dir.file(path).string(), bytes);
             stage2Files.push_back(path);

@@ -152,12 +152,7 @@ void checkResumable(const Checkpoint& c, const Scenario& s, const std::string& s
         throw InputError(shown +
                          ": the scenario it holds no longer reads as the run read it (another version of cavesim?); "
                          "start the run again");
-    int iterations = s.stage2.iterations;  // of stage 2: the phases' when there are phases
-    if (!s.stage2.phases.empty()) {
-        iterations = 0;
-        for (const Stage2Phase& ph : s.stage2.phases) iterations += ph.iterations;
-    }
-    if (!s.stage2.enabled || c.iteration >= iterations)
+    if (!s.stage2.enabled || c.iteration >= s.stage2.totalIterations())
         throw InputError(shown + ": a checkpoint after iteration " + std::to_string(c.iteration) +
                          ", which its scenario's stage 2 does not reach");
 }

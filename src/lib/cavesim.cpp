@@ -494,15 +494,18 @@ void checkCheckpointOptions(const RunOptions& o) {
                          " is not a folder");
 }
 
-/// `run`, or with `resume` (read from the file `shown`, checked against the scenario by
-/// app::checkResumable) its continuation.
-std::unique_ptr<Result::Impl> runWith(const Scenario& scenario, const RunOptions& options,
+/// `scenario` with its [site]'s files read, checked and sampled onto the block.
+cavesim::Scenario withSiteLoaded(const Scenario& scenario) {
+    cavesim::Scenario s = scenario.impl().scenario;
+    site::loadSite(s);
+    return s;
+}
+
+/// `run` of `scenario` (`s`: withSiteLoaded(scenario), its options checked), or with `resume`
+/// (read from the file `shown`, checked against `s` by app::checkResumable) its continuation.
+std::unique_ptr<Result::Impl> runWith(const Scenario& scenario, const cavesim::Scenario& s, const RunOptions& options,
                                       const app::Checkpoint* resume, const std::string& shown) {
-    checkCheckpointOptions(options);
     const cavesim::Scenario& base = scenario.impl().scenario;
-    cavesim::Scenario withSite = base;
-    site::loadSite(withSite);  // a [site]'s files: read, checked and sampled onto the block
-    const cavesim::Scenario& s = withSite;
     const int threads = options.threads > 0 ? options.threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     const CancelToken cancel = options.cancel;
@@ -542,10 +545,7 @@ std::unique_ptr<Result::Impl> runWith(const Scenario& scenario, const RunOptions
     hooks.beforeStage2 = [&](const Domain& d, app::RunRecord&) {
         if (!checkpointing && !resume) return;
         domainHash = app::domainFingerprint(d);
-        if (resume && domainHash != resume->domainHash)
-            throw InputError(shown +
-                             ": the domain at the start of stage 2 is not the one the checkpoint was made from (a "
-                             "file the scenario reads changed, or another version of cavesim); start the run again");
+        if (resume) app::checkResumedDomain(domainHash, *resume, shown, "start the run again");
     };
     if (resume) {
         hooks.checkpoints.resume = &resume->stage2;
@@ -644,7 +644,8 @@ std::unique_ptr<Result::Impl> runWith(const Scenario& scenario, const RunOptions
 }  // namespace
 
 Result run(const Scenario& scenario, const RunOptions& options) {
-    return Result(runWith(scenario, options, nullptr, std::string()));
+    checkCheckpointOptions(options);
+    return Result(runWith(scenario, withSiteLoaded(scenario), options, nullptr, std::string()));
 }
 
 Result resume(const std::string& checkpointPath, const RunOptions& options) {
@@ -653,12 +654,12 @@ Result resume(const std::string& checkpointPath, const RunOptions& options) {
         throw InputError(checkpointPath + ": no checkpoint to resume from (no such file)");
     const app::Checkpoint c = app::decodeCheckpoint(readFileBytes(checkpointPath), checkpointPath);
     const cavesim::Scenario read = app::checkpointScenario(c);
-    cavesim::Scenario withSite = read;
-    site::loadSite(withSite);
-    app::checkResumable(c, withSite, checkpointPath);
     // The scenario as a public Scenario: its effective text (overrides included) under its name.
     const Scenario scenario = Scenario::fromTomlString(scenarioToToml(read), read.path);
-    return Result(runWith(scenario, options, &c, checkpointPath));
+    const cavesim::Scenario s = withSiteLoaded(scenario);
+    app::checkResumable(c, s, checkpointPath);
+    checkCheckpointOptions(options);
+    return Result(runWith(scenario, s, options, &c, checkpointPath));
 }
 
 }  // namespace cavesim::api

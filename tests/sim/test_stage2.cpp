@@ -11,6 +11,8 @@
 #include "sim/stage2.h"
 #include "sim/stage2_steps.h"
 
+#include "levels_scenario.h"
+
 using namespace cavesim;
 
 namespace {
@@ -210,33 +212,7 @@ TEST(Stage2, IncrementalConnectivityEqualsTheFullSearchEveryIteration) {
 // phase grows cave at its lower table below the first level (a shaft cuts down to it), and the terminals' flags are as
 // given when the run returns (an inactive sink is only switched off for its phase).
 TEST(Stage2, PhasesConserveWaterAndGrowALowerLevel) {
-    const Scenario s = parseScenarioString(R"(name = "levels"
-seed = 4
-[domain]
-size = [48, 1, 30]
-[rock]
-porosity = 0.05
-[[source]]
-at = [8, 0, 29]
-[[sink]]
-box = [[47, 0, 19], [47, 0, 21]]
-[[sink]]
-box = [[47, 0, 4], [47, 0, 6]]
-[stage1]
-enabled = false
-[stage2]
-p_rate = 0.05
-p_rate_channel = 0.001
-[[phase]]
-iterations = 150
-water_table = 20
-sinks = [1]
-[[phase]]
-iterations = 150
-water_table = 5
-sinks = [2]
-)",
-                                           "levels.toml");
+    const Scenario s = parseScenarioString(test::kLevelsScenario, "levels.toml");
     Domain d = prepared(s);
     const Grid3<std::uint8_t> flagsBefore = d.flags;
     const Stage2Result r = runStage2(d, s.stage2);

@@ -13,6 +13,8 @@
 #include "sim/stage2.h"
 #include "sim/stage2_checkpoint.h"
 
+#include "levels_scenario.h"
+
 using namespace cavesim;
 
 namespace {
@@ -91,35 +93,6 @@ water_table = 3
 Scenario phased() {
     return parseScenarioString(kPhased, "ckphases.toml");
 }
-
-/// A vertical section with two springs: the upper joins the source in phase 1 (a breakthrough of
-/// the phase), the lower one in phase 2 (test_stage2.cpp, "PhasesConserveWaterAndGrowALowerLevel").
-const char* kLevels = R"(name = "cklevels"
-seed = 4
-[domain]
-size = [48, 1, 30]
-[rock]
-porosity = 0.05
-[[source]]
-at = [8, 0, 29]
-[[sink]]
-box = [[47, 0, 19], [47, 0, 21]]
-[[sink]]
-box = [[47, 0, 4], [47, 0, 6]]
-[stage1]
-enabled = false
-[stage2]
-p_rate = 0.05
-p_rate_channel = 0.001
-[[phase]]
-iterations = 150
-water_table = 20
-sinks = [1]
-[[phase]]
-iterations = 150
-water_table = 5
-sinks = [2]
-)";
 
 Domain build(const Scenario& s) {
     Rng rng(s.seed);
@@ -330,7 +303,7 @@ TEST(Stage2Checkpoint, PhasedRunResumesFromEveryCheckpoint) {
 }
 
 TEST(Stage2Checkpoint, PhaseBreakthroughSurvivesResume) {
-    const Scenario s = parseScenarioString(kLevels, "cklevels.toml");
+    const Scenario s = parseScenarioString(test::kLevelsScenario, "cklevels.toml");
     Domain a = prepared(s);
     const Stage2Result ra = runStage2(a, s.stage2);
     ASSERT_EQ(ra.phases.size(), 2u);
