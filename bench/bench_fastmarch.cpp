@@ -80,7 +80,10 @@ void BM_EikonalSolveLarge(benchmark::State& state) {
 BENCHMARK(BM_EikonalSolveLarge)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// A channel (rate 0.001) grows from the sink into the block, 8 voxels per call over 16 calls, each
-/// call the decrease-only update (what stage 2 does when its channels lengthen). Arg: threads.
+/// call the decrease-only update (what stage 2 does when its channels lengthen). Args: threads, and
+/// whether the sink voxels have the channel rate from the start, as stage 2's rate field gives them
+/// (1; then the queue's buckets are as narrow as a channel step from the first solve on) or the
+/// rock's (0: the slowness is uniform at the solve).
 void BM_EikonalDecreaseLarge(benchmark::State& state) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
     const std::vector<Seed> seeds = largeSinkSeeds();
@@ -101,6 +104,8 @@ void BM_EikonalDecreaseLarge(benchmark::State& state) {
     for (auto _ : state) {
         state.PauseTiming();
         Grid3<float> s(kLarge, 0.5f);
+        if (state.range(1))
+            for (const Seed& seed : seeds) s[seed.voxel] = 0.001f;
         EikonalField f;
         f.solve(kLarge, s, seeds, 640.0, Stencil::kAvalanche26);
         state.ResumeTiming();
@@ -112,7 +117,12 @@ void BM_EikonalDecreaseLarge(benchmark::State& state) {
     }
     state.counters["changed_voxels"] = double(changed);
 }
-BENCHMARK(BM_EikonalDecreaseLarge)->Arg(1)->Arg(2)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EikonalDecreaseLarge)
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Args({1, 1})
+    ->Args({2, 1})
+    ->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ThreeLabelledFronts(benchmark::State& state) {
     const std::vector<Seed> seeds{

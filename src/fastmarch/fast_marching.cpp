@@ -607,12 +607,16 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
     if (stencil == Stencil::kAvalanche26) {
         // A bucket queue when buckets as wide as the smallest edge cost (the smallest slowness
         // times 1) cover [0, cap] with at most 2^21 of them; a heap otherwise.
-        float smallest = std::numeric_limits<float>::infinity();
-        for (float x : slowness.data) smallest = std::min(smallest, x);
-        const double count = cap / double(smallest);
+        float smallest = std::numeric_limits<float>::infinity(), largest = 0;
+        for (float x : slowness.data) {
+            smallest = std::min(smallest, x);
+            largest = std::max(largest, x);
+        }
+        const double width = std::min(double(smallest), double(largest) / double(kMinSpan + 2));
+        const double count = cap / width;
         if (smallest > 0 && std::isfinite(count) && count < double(1 << 21)) {
             useBuckets_ = true;
-            buckets_.width = double(smallest);
+            buckets_.width = width;
             buckets_.bucket.resize(std::size_t(count) + 2);
             buckets_.lowest = buckets_.bucket.size() - 1;
             // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
