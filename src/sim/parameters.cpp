@@ -866,7 +866,8 @@ std::vector<ParamSection> makeRegistry() {
         "and report.json (`world_from_index`); meshes, skeletons and the other files stay in block metres\n"
         "(add `origin`). Bad site input — a file that is not a GeoTIFF, a geographic CRS (degrees), CRSs\n"
         "that disagree, a point outside the block, a surface that leaves the block or does not cover it —\n"
-        "is an error naming the file and the value, exit 2. Paths are relative to the scenario file's folder.";
+        "is an error naming the file and the value, exit 2; so is a `[[source]]` or `[[sink]]` wholly in air\n"
+        "or insoluble rock. Paths are relative to the scenario file's folder.";
 
     ParamSection& horizon = r.emplace_back(tableArray(
         "site.horizon", &Scenario::siteHorizons, 64, "inception horizons",

@@ -410,3 +410,31 @@ TEST_F(SiteTest, RechargeBelowTheBlockOrOnInsolubleRockIsRefused) {
     EXPECT_NE(diffuseInsoluble.find(", 1] (centre 115 m), below the base of the limestone"), std::string::npos)
         << diffuseInsoluble;
 }
+
+// A [[source]] or [[sink]] wholly in air above the DEM or in insoluble rock is refused (it once
+// ran, taking in or draining nothing); one that reaches a voxel of karst rock is kept.
+TEST_F(SiteTest, TerminalsWhollyInAirOrInsolubleRockAreRefused) {
+    Scenario s = scenario();
+    s.site.dem = dem();  // 150 + i m: layers 0–4 (centres 105–145 m) are rock, 5–9 air
+    SourceSpec source;
+    source.box.lo = source.box.hi = {2, 2, 7};
+    source.line = 9;
+    s.sources = {source};
+    const std::string air = error(s);
+    EXPECT_NE(air.find("s.toml:9: [[source]] 1 (voxels [2, 2, 7] to [2, 2, 7]) lies wholly in air above the [site] "
+                       "dem or in insoluble rock below its base_of_limestone"),
+              std::string::npos)
+        << air;
+    s.sources[0].box.lo = {2, 2, 4};  // the box reaches the land-surface voxel
+    EXPECT_EQ(error(s), "");
+    SinkSpec sink;
+    sink.box = {{7, 0, 0}, {7, 1, 1}};
+    sink.line = 12;
+    s.sinks = {sink};
+    EXPECT_EQ(error(s), "");
+    s.site.baseOfLimestone = text("base.xyz", "x y z\n500000 4000000 121\n500100 4000000 121\n500000 4000100 121\n");
+    const std::string insoluble = error(s);  // layers 0 and 1 (105, 115 m) lie below 121 m
+    EXPECT_NE(insoluble.find("s.toml:12: [[sink]] 1 (voxels [7, 0, 0] to [7, 1, 1]) lies wholly in air"),
+              std::string::npos)
+        << insoluble;
+}
