@@ -84,6 +84,10 @@ std::uint64_t domainFingerprint(const Domain& d) {
     h.add(d.porosity0.data.data(), d.porosity0.data.size() * sizeof(float));
     h.add(d.flags.data.data(), d.flags.data.size());
     h.add(d.zone.data.data(), d.zone.data.size() * sizeof(std::int32_t));
+    // Stage 2 reads these too, and a [site] reads them from files (a sinkhole's pressure, the
+    // water table of `from_site`) that may change between a run and its resume.
+    h.add(d.sourcePressure.data(), d.sourcePressure.size() * sizeof(double));
+    h.add(d.siteWaterTable.data(), d.siteWaterTable.size() * sizeof(double));
     return h.value();
 }
 

@@ -74,7 +74,8 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& shown);
 std::uint64_t scenarioHash(const Scenario& scenario);
 
 /// FNV-1a of the domain grids stage 1 and the interim step settle (porosity, porosity0, flags,
-/// zone): a resumed run's stage 1 must give the same.
+/// zone) and of the sources' pressures and the site's water table, which stage 2 reads: a resumed
+/// run's domain must be the same.
 std::uint64_t domainFingerprint(const Domain& domain);
 
 /// Checks that `domainHash` (domainFingerprint at the start of stage 2 of a resumed run) is the

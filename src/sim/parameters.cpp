@@ -562,7 +562,8 @@ std::vector<ParamSection> makeRegistry() {
                 .appliesWhen(isSinkholes, "only sinkholes take a count; leave it out for this kind"),
             integer("radius", &RechargeSpec::radius, rng(0, 64),
                     "sinkholes: each is a (2r+1)² × (r+1) box under the land surface (2r+1 at most the area's sides, "
-                    "r+1 at most nz), at least 2r+1 apart")
+                    "r+1 at most the layers of rock under the land: nz, or fewer under a `[site] dem`), at least "
+                    "2r+1 apart")
                 .unitIs("voxels")
                 .appliesWhen(isSinkholes, "only sinkholes take a radius; leave it out for this kind"),
             real("spacing", &RechargeSpec::spacing, rng(1, 1024), "diffuse: cell size; stream: input spacing")
@@ -583,7 +584,8 @@ std::vector<ParamSection> makeRegistry() {
         "`[site] dem` the highest rock voxel of each column — after the `[[source]]` entries and before a\n"
         "site's sinkholes; everything downstream sees sources. Together with the `[[source]]` entries and a\n"
         "site's sinkholes at most 256 sources. Recharge outside the top face's columns, on a column the DEM\n"
-        "leaves all air, sinkholes that do not fit in their area, or an input on a sink or a spring is an\n"
+        "leaves all air, sinkholes that do not fit in their area (or under the DEM in the block's layers),\n"
+        "an input below `[site] base_of_limestone`, or an input on a sink or a spring is an\n"
         "error (docs/geology.md). A key of another kind is an error too: `count` or `radius` on a stream or\n"
         "diffuse entry, `points` on sinkholes or diffuse, `area` on a stream.";
     recharge.setLine = [](void* r, int line) { static_cast<RechargeSpec*>(r)->line = line; };
@@ -864,7 +866,8 @@ std::vector<ParamSection> makeRegistry() {
         "and report.json (`world_from_index`); meshes, skeletons and the other files stay in block metres\n"
         "(add `origin`). Bad site input — a file that is not a GeoTIFF, a geographic CRS (degrees), CRSs\n"
         "that disagree, a point outside the block, a surface that leaves the block or does not cover it —\n"
-        "is an error naming the file and the value, exit 2. Paths are relative to the scenario file's folder.";
+        "is an error naming the file and the value, exit 2; so is a `[[source]]` or `[[sink]]` wholly in air\n"
+        "or insoluble rock. Paths are relative to the scenario file's folder.";
 
     ParamSection& horizon = r.emplace_back(tableArray(
         "site.horizon", &Scenario::siteHorizons, 64, "inception horizons",

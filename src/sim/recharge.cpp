@@ -83,6 +83,25 @@ int landTop(const Scenario& s, const RechargeSpec& r, int i, int j) {
     return k;
 }
 
+/// Checks that every voxel of `box` (an input of entry `r`) is karst rock: none lies below a
+/// `[site] base_of_limestone` (insoluble, inert: no place for a source, as for a site's sinkhole).
+/// (The base is shown to the millimetre: inverse-distance weighting leaves round-off in it.)
+void checkSoluble(const Scenario& s, const RechargeSpec& r, const VoxelBox& box) {
+    if (!s.siteData || s.siteData->baseOfLimestone.empty()) return;
+    const double z = s.site.origin[2] + (box.lo[2] + 0.5) * s.voxelSize;  // the box's lowest voxel centre
+    for (int j = box.lo[1]; j <= box.hi[1]; ++j)
+        for (int i = box.lo[0]; i <= box.hi[0]; ++i) {
+            const double base = s.siteData->baseOfLimestone[std::size_t(i) + std::size_t(s.size[0]) * std::size_t(j)];
+            if (z < base)
+                fail(s, r.line, &r.kind, kindValue(r.kind),
+                     "an input reaches voxel [" + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                         std::to_string(box.lo[2]) + "] (centre " + shortestText(z) +
+                         " m), below the base of the limestone there ([site] base_of_limestone, " +
+                         shortestText(std::round(base * 1000) / 1000) + " m): its voxel is insoluble rock" +
+                         (r.kind == RechargeKind::kSinkholes ? "; lower radius or move the area" : ""));
+        }
+}
+
 /// The sources of entry `index`; an empty result from sinkholes that do not fit.
 std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::size_t index, bool& fits) {
     fits = true;
@@ -116,10 +135,19 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
                 int top = s.size[2] - 1;
                 for (int j = y0; j <= y1; ++j)
                     for (int i = x0; i <= x1; ++i) top = std::min(top, landTop(s, r, i, j));
-                src.box.lo = {x0, y0, std::max(0, top - r.radius)};
+                if (top < r.radius)
+                    fail(s, r.line, &r.radius, std::to_string(r.radius),
+                         "a sinkhole of radius r is a (2r+1) × (2r+1) × (r+1) box under the land surface; at "
+                         "columns x " +
+                             std::to_string(x0) + ".." + std::to_string(x1) + ", y " + std::to_string(y0) + ".." +
+                             std::to_string(y1) + " the [site] dem leaves " + std::to_string(top + 1) +
+                             " layer(s) of rock, so it would reach below the block's bottom: must be at most " +
+                             std::to_string(top) + " there");
+                src.box.lo = {x0, y0, top - r.radius};
                 src.box.hi = {x1, y1, top};
                 src.pressure = r.pressure;
                 src.line = r.line;
+                checkSoluble(s, r, src.box);
                 out.push_back(src);
             }
             break;
@@ -166,7 +194,10 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
         }
     }
     if (r.kind != RechargeKind::kSinkholes)
-        for (SourceSpec& src : out) src.pressure = r.pressure / double(out.size());
+        for (SourceSpec& src : out) {
+            checkSoluble(s, r, src.box);
+            src.pressure = r.pressure / double(out.size());
+        }
     return out;
 }
 

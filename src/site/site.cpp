@@ -483,6 +483,28 @@ void loadSite(Scenario& s) {
         throw InputError(s.path + ": stage 2 needs at least one sink, and the springs file has no rows");
     if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.recharge.empty() && data->sources.empty())
         throw InputError(s.path + ": a stage needs at least one source, and the sinkholes file has no rows");
+    // A [[source]] or [[sink]] wholly in air or insoluble rock (inert: porosity 0, no water) takes in
+    // or drains nothing: refused, as a sinkhole or spring there is.
+    const auto checkKarst = [&](const VoxelBox& box, int line, const char* header, std::size_t n) {
+        for (int k = box.lo[2]; k <= box.hi[2]; ++k)
+            for (int j = box.lo[1]; j <= box.hi[1]; ++j)
+                for (int i = box.lo[0]; i <= box.hi[0]; ++i) {
+                    const std::size_t col = std::size_t(i) + std::size_t(nx) * std::size_t(j);
+                    const double z = b.lo[2] + (k + 0.5) * b.h;
+                    const bool air = !data->landSurface.empty() && z > data->landSurface[col];
+                    const bool insoluble = !data->baseOfLimestone.empty() && z < data->baseOfLimestone[col];
+                    if (!air && !insoluble) return;
+                }
+        const auto corner = [](const std::array<int, 3>& c) {
+            return "[" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) + "]";
+        };
+        throw InputError(s.path + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + header + " " +
+                         std::to_string(n + 1) + " (voxels " + corner(box.lo) + " to " + corner(box.hi) +
+                         ") lies wholly in air above the [site] dem or in insoluble rock below its base_of_limestone: "
+                         "no water can flow there; at least one of its voxels must be karst rock");
+    };
+    for (std::size_t n = 0; n < s.sources.size(); ++n) checkKarst(s.sources[n].box, s.sources[n].line, "[[source]]", n);
+    for (std::size_t n = 0; n < s.sinks.size(); ++n) checkKarst(s.sinks[n].box, s.sinks[n].line, "[[sink]]", n);
     s.siteData = std::move(data);
     // [[recharge]] sits on the land surface: checked again now that the DEM places it.
     if (!s.recharge.empty()) validateRecharge(s);

@@ -8,6 +8,7 @@
 #include "app/checkpoint.h"
 #include "core/error.h"
 #include "core/fnv.h"
+#include "sim/domain.h"
 
 using namespace cavesim;
 using namespace cavesim::app;
@@ -107,4 +108,24 @@ TEST(Checkpoint, ReadsVersionsOneAndTwoOnly) {
 TEST(Checkpoint, FolderBesideTheTarget) {
     EXPECT_EQ(checkpointDir("/a/b/out").string(), "/a/b/.out.checkpoint");
     EXPECT_EQ(checkpointDir("/a/b/out/").string(), "/a/b/.out.checkpoint");
+}
+
+// A [site] reads stage 2's source pressures (sinkholes.csv) and water table (`from_site`) from
+// files: a resume after either changed must be refused, so the fingerprint covers them (it once
+// covered only the grids, and a changed water table resumed into different files).
+TEST(Checkpoint, FingerprintCoversWhatStageTwoReadsFromSiteFiles) {
+    Domain d = emptyDomain(Dims{4, 3, 2}, 1.0, 0.05f);
+    d.sourcePressure = {1.0, 0.5};
+    d.siteWaterTable.assign(12, 0.5);
+    const std::uint64_t base = domainFingerprint(d);
+    EXPECT_EQ(domainFingerprint(d), base);
+    Domain pressure = d;
+    pressure.sourcePressure[1] = 0.25;
+    EXPECT_NE(domainFingerprint(pressure), base);
+    Domain table = d;
+    table.siteWaterTable[5] = 0.75;
+    EXPECT_NE(domainFingerprint(table), base);
+    Domain grids = d;
+    grids.porosity.at(1, 1, 1) = 0.5f;
+    EXPECT_NE(domainFingerprint(grids), base);
 }

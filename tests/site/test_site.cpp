@@ -362,3 +362,79 @@ TEST_F(SiteTest, RechargeOnAirOrOnASpringIsRefused) {
     EXPECT_NE(spring.find("s.toml:12:"), std::string::npos) << spring;
     EXPECT_NE(spring.find("an input at [1, 0, 4] falls on the voxel of spring 'S1'"), std::string::npos) << spring;
 }
+
+// An input is karst rock all through: a sinkhole's box that the DEM would push below the block's
+// bottom, or any input below the base of the limestone (insoluble, inert), is refused like a site
+// sinkhole there. Both were accepted before: the box was cut to the block, the input made inert.
+TEST_F(SiteTest, RechargeBelowTheBlockOrOnInsolubleRockIsRefused) {
+    Scenario s = scenario();
+    s.stage1.enabled = true;
+    // 121 m: only layer 0 (centre 105 m) and layer 1 (115 m) are rock under the land.
+    s.site.dem = tiff("low.tif", 32633, kX0, kY0 + 6 * kH, kH, 8, 6, [](int, int) { return 121.0; });
+    RechargeSpec sinkhole;  // radius 2 needs 3 layers under the land surface, the DEM leaves 2
+    sinkhole.kind = RechargeKind::kSinkholes;
+    sinkhole.area = {0, 0, 7, 5};
+    sinkhole.count = 1;
+    sinkhole.radius = 2;
+    sinkhole.line = 14;
+    s.recharge = {sinkhole};
+    const std::string deep = error(s);
+    EXPECT_NE(deep.find("s.toml:14: key 'recharge.radius' = 2:"), std::string::npos) << deep;
+    EXPECT_NE(deep.find("leaves 2 layer(s) of rock, so it would reach below the block's bottom: must be at most 1"),
+              std::string::npos)
+        << deep;
+    s.recharge[0].radius = 1;
+    EXPECT_EQ(error(s), "");
+    // The base of the limestone at 110 m: layer 0 (centre 105 m) is insoluble. The radius-1
+    // sinkhole reaches it, a diffuse input on the land surface (layer 1) does not.
+    s.site.baseOfLimestone = text("base.xyz", "x y z\n500000 4000000 110\n500100 4000000 110\n500000 4000100 110\n");
+    const std::string insoluble = error(s);
+    EXPECT_NE(insoluble.find("s.toml:14: key 'recharge.kind' = \"sinkholes\": an input reaches voxel ["),
+              std::string::npos)
+        << insoluble;
+    EXPECT_NE(insoluble.find(", 0] (centre 105 m), below the base of the limestone there ([site] base_of_limestone, "
+                             "110 m): its voxel is insoluble rock"),
+              std::string::npos)
+        << insoluble;
+    RechargeSpec diffuse;
+    diffuse.kind = RechargeKind::kDiffuse;
+    diffuse.line = 20;
+    s.recharge = {diffuse};
+    EXPECT_EQ(error(s), "");
+    // Base at 118 m: the land-surface layer (centre 115 m) is insoluble too.
+    s.site.baseOfLimestone = text("base.xyz", "x y z\n500000 4000000 118\n500100 4000000 118\n500000 4000100 118\n");
+    const std::string diffuseInsoluble = error(s);
+    EXPECT_NE(diffuseInsoluble.find("s.toml:20: key 'recharge.kind' = \"diffuse\": an input reaches voxel ["),
+              std::string::npos)
+        << diffuseInsoluble;
+    EXPECT_NE(diffuseInsoluble.find(", 1] (centre 115 m), below the base of the limestone"), std::string::npos)
+        << diffuseInsoluble;
+}
+
+// A [[source]] or [[sink]] wholly in air above the DEM or in insoluble rock is refused (it once
+// ran, taking in or draining nothing); one that reaches a voxel of karst rock is kept.
+TEST_F(SiteTest, TerminalsWhollyInAirOrInsolubleRockAreRefused) {
+    Scenario s = scenario();
+    s.site.dem = dem();  // 150 + i m: layers 0–4 (centres 105–145 m) are rock, 5–9 air
+    SourceSpec source;
+    source.box.lo = source.box.hi = {2, 2, 7};
+    source.line = 9;
+    s.sources = {source};
+    const std::string air = error(s);
+    EXPECT_NE(air.find("s.toml:9: [[source]] 1 (voxels [2, 2, 7] to [2, 2, 7]) lies wholly in air above the [site] "
+                       "dem or in insoluble rock below its base_of_limestone"),
+              std::string::npos)
+        << air;
+    s.sources[0].box.lo = {2, 2, 4};  // the box reaches the land-surface voxel
+    EXPECT_EQ(error(s), "");
+    SinkSpec sink;
+    sink.box = {{7, 0, 0}, {7, 1, 1}};
+    sink.line = 12;
+    s.sinks = {sink};
+    EXPECT_EQ(error(s), "");
+    s.site.baseOfLimestone = text("base.xyz", "x y z\n500000 4000000 121\n500100 4000000 121\n500000 4000100 121\n");
+    const std::string insoluble = error(s);  // layers 0 and 1 (105, 115 m) lie below 121 m
+    EXPECT_NE(insoluble.find("s.toml:12: [[sink]] 1 (voxels [7, 0, 0] to [7, 1, 1]) lies wholly in air"),
+              std::string::npos)
+        << insoluble;
+}
