@@ -83,6 +83,42 @@ py::array rowsArray(const std::vector<std::array<T, N>>& rows, const py::object&
     return std::move(a);
 }
 
+/// Defines `name`(first, threads, progress, cancel, mesh, analysis, stage1_state, checkpoint_path,
+/// checkpoint_every): `start(first, options)` (api::run or api::resume) run without the GIL; the
+/// callback takes it back, and Ctrl-C stops the run.
+template <typename First, typename Start>
+void defRun(py::module_& m, const char* name, const char* first, Start start) {
+    m.def(
+        name,
+        [start](const First& x, int threads, const py::object& progress, const api::CancelToken& cancel, bool mesh,
+                bool analysis, const std::string& stage1State, const std::string& checkpointPath, int checkpointEvery) {
+            api::RunOptions o;
+            o.threads = threads;
+            o.cancel = cancel;
+            o.mesh = mesh;
+            o.analysis = analysis;
+            o.stage1StatePath = stage1State;
+            o.checkpointPath = checkpointPath;
+            o.checkpointEvery = checkpointEvery;
+            // By reference: the callback object outlives the run (it is the caller's argument), and a
+            // copy of it must not change its reference count without the GIL.
+            o.progress = [&progress](const std::string& phase, long done, long total) {
+                py::gil_scoped_acquire gil;
+                if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+                if (!progress.is_none()) progress(phase, done, total);
+            };
+            std::shared_ptr<api::Result> result;
+            {
+                py::gil_scoped_release release;
+                result = std::make_shared<api::Result>(start(x, o));
+            }
+            return result;
+        },
+        py::arg(first), py::arg("threads") = 0, py::arg("progress") = py::none(),
+        py::arg("cancel") = api::CancelToken(), py::arg("mesh") = true, py::arg("analysis") = true,
+        py::arg("stage1_state") = "", py::arg("checkpoint_path") = "", py::arg("checkpoint_every") = 0);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_cavesim, m) {
@@ -224,61 +260,11 @@ PYBIND11_MODULE(_cavesim, m) {
         .def("write_state", &api::Result::writeState, py::arg("path"),
              "Writes state.vdb as `cavesim run` does (byte for byte the same file).");
 
-    // Runs without the GIL; the callback takes it back, and Ctrl-C stops the run.
-    const auto options = [](int threads, const py::object& progress, const api::CancelToken& cancel, bool mesh,
-                            bool analysis, const std::string& stage1State, const std::string& checkpointPath,
-                            int checkpointEvery) {
-        api::RunOptions o;
-        o.threads = threads;
-        o.cancel = cancel;
-        o.mesh = mesh;
-        o.analysis = analysis;
-        o.stage1StatePath = stage1State;
-        o.checkpointPath = checkpointPath;
-        o.checkpointEvery = checkpointEvery;
-        // By reference: the callback object outlives the run (it is the caller's argument), and a
-        // copy of it must not change its reference count without the GIL.
-        o.progress = [&progress](const std::string& phase, long done, long total) {
-            py::gil_scoped_acquire gil;
-            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-            if (!progress.is_none()) progress(phase, done, total);
-        };
-        return o;
-    };
-    m.def(
-        "_run",
-        [options](const api::Scenario& scenario, int threads, const py::object& progress,
-                  const api::CancelToken& cancel, bool mesh, bool analysis, const std::string& stage1State,
-                  const std::string& checkpointPath, int checkpointEvery) {
-            const api::RunOptions o =
-                options(threads, progress, cancel, mesh, analysis, stage1State, checkpointPath, checkpointEvery);
-            std::shared_ptr<api::Result> result;
-            {
-                py::gil_scoped_release release;
-                result = std::make_shared<api::Result>(api::run(scenario, o));
-            }
-            return result;
-        },
-        py::arg("scenario"), py::arg("threads") = 0, py::arg("progress") = py::none(),
-        py::arg("cancel") = api::CancelToken(), py::arg("mesh") = true, py::arg("analysis") = true,
-        py::arg("stage1_state") = "", py::arg("checkpoint_path") = "", py::arg("checkpoint_every") = 0);
-    m.def(
-        "_resume",
-        [options](const std::string& path, int threads, const py::object& progress, const api::CancelToken& cancel,
-                  bool mesh, bool analysis, const std::string& stage1State, const std::string& checkpointPath,
-                  int checkpointEvery) {
-            const api::RunOptions o =
-                options(threads, progress, cancel, mesh, analysis, stage1State, checkpointPath, checkpointEvery);
-            std::shared_ptr<api::Result> result;
-            {
-                py::gil_scoped_release release;
-                result = std::make_shared<api::Result>(api::resume(path, o));
-            }
-            return result;
-        },
-        py::arg("path"), py::arg("threads") = 0, py::arg("progress") = py::none(),
-        py::arg("cancel") = api::CancelToken(), py::arg("mesh") = true, py::arg("analysis") = true,
-        py::arg("stage1_state") = "", py::arg("checkpoint_path") = "", py::arg("checkpoint_every") = 0);
+    defRun<api::Scenario>(m, "_run", "scenario", [](const api::Scenario& scenario, const api::RunOptions& o) {
+        return api::run(scenario, o);
+    });
+    defRun<std::string>(m, "_resume", "path",
+                        [](const std::string& path, const api::RunOptions& o) { return api::resume(path, o); });
 
     m.attr("FLAG_SOURCE") = int(api::kFlagSource);
     m.attr("FLAG_SINK") = int(api::kFlagSink);

@@ -12,7 +12,6 @@
 #include "app/output_dir.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "core/fnv.h"
 #include "formats/exports.h"
 #include "sim/preflight.h"
 #include "sim/recharge.h"
@@ -63,13 +62,6 @@ Scenario unloadedScenario(const RunRequest& request, const std::string* text) {
     if (request.formats) s.output.formats = formats::formatList(formats::parseFormatSet(*request.formats));
     if (request.meshNormals) s.output.meshNormals = *request.meshNormals;
     validateScenario(s);
-    return s;
-}
-
-/// requestedScenario, with the scenario file's `text` read earlier when it is given.
-Scenario scenarioFor(const RunRequest& request, const std::string* text) {
-    Scenario s = unloadedScenario(request, text);
-    site::loadSite(s);
     return s;
 }
 
@@ -136,7 +128,9 @@ RunOutcome execute(const RunRequest& request, const Scenario& s, const PipelineO
 }  // namespace
 
 Scenario requestedScenario(const RunRequest& request) {
-    return scenarioFor(request, nullptr);
+    Scenario s = unloadedScenario(request, nullptr);
+    site::loadSite(s);
+    return s;
 }
 
 RunOutcome runScenario(const RunRequest& request, const PipelineOptions& callbacks) {
@@ -169,7 +163,8 @@ RunOutcome resumeRun(const ResumeRequest& r, const PipelineOptions& callbacks) {
     request.outDir = r.dir;
     request.threads = r.threads;
     request.force = c.force || r.force;
-    const Scenario s = scenarioFor(request, c.scenarioPath.empty() ? nullptr : &c.scenarioText);
+    Scenario s = checkpointScenario(c);
+    site::loadSite(s);
     checkResumable(c, s, shown);
     // The pictures of the snapshots before the checkpoint come from it: a checkpoint without them
     // (the library's, which draws none) cannot finish an output folder.

@@ -161,28 +161,39 @@ def test_threads_do_not_change_results(result):
     assert np.array_equal(r.skeleton.nodes, result.skeleton.nodes)
 
 
+class _Stop(Exception):
+    """What _stop_at's callback raises."""
+
+
+def _stop_at(at):
+    """A progress callback that raises _Stop when stage 2 reports iteration `at` done."""
+
+    def stop(phase, done, total):
+        if phase == "stage 2" and done == at:
+            raise _Stop()
+
+    return stop
+
+
+def _cancel_at(token, at):
+    """A progress callback that cancels `token` when stage 2 reports iteration `at` done."""
+
+    def cancel(phase, done, total):
+        if phase == "stage 2" and done == at:
+            token.cancel()
+
+    return cancel
+
+
 def test_progress_and_cancel():
     seen = []
     cavesim.run(SMALL, progress=lambda phase, done, total: seen.append((phase, done, total)), mesh=False)
     assert ("stage 2", 150, 150) in seen and ("analysis", 1, 1) in seen
-
-    class Stop(Exception):
-        pass
-
-    def stop(phase, done, total):
-        if phase == "stage 2" and done == 3:
-            raise Stop()
-
-    with pytest.raises(Stop):
-        cavesim.run(SMALL, progress=stop)
+    with pytest.raises(_Stop):
+        cavesim.run(SMALL, progress=_stop_at(3))
     token = cavesim.CancelToken()
-
-    def cancel(phase, done, total):
-        if phase == "stage 2" and done == 3:
-            token.cancel()
-
     with pytest.raises(cavesim.Cancelled):
-        cavesim.run(SMALL, progress=cancel, cancel=token)
+        cavesim.run(SMALL, progress=_cancel_at(token, 3), cancel=token)
     assert token.cancelled
 
 
@@ -209,13 +220,9 @@ def _expect_same_bits(a, b):
 def test_checkpoint_cancel_and_resume(tmp_path, result):
     ck = tmp_path / "small.ckpt"
     token = cavesim.CancelToken()
-
-    def cancel(phase, done, total):
-        if phase == "stage 2" and done == 50:
-            token.cancel()
-
     with pytest.raises(cavesim.Cancelled):
-        cavesim.run(SMALL, threads=2, progress=cancel, cancel=token, checkpoint_path=ck, checkpoint_every=20)
+        cavesim.run(SMALL, threads=2, progress=_cancel_at(token, 50), cancel=token, checkpoint_path=ck,
+                    checkpoint_every=20)
     assert ck.is_file()  # the checkpoint after iteration 40
     first = []
     r = cavesim.resume(ck, threads=1, progress=lambda p, d, t: first.append(d) if p == "stage 2" else None)
@@ -224,15 +231,8 @@ def test_checkpoint_cancel_and_resume(tmp_path, result):
     assert r.scenario.to_toml() == result.scenario.to_toml()
 
     # Stopped again by an exception in the callback, the resumed run's own checkpoint (same file) resumes.
-    class Stop(Exception):
-        pass
-
-    def stop(phase, done, total):
-        if phase == "stage 2" and done == 95:
-            raise Stop()
-
-    with pytest.raises(Stop):
-        cavesim.resume(str(ck), progress=stop, checkpoint_path=ck, checkpoint_every=30)
+    with pytest.raises(_Stop):
+        cavesim.resume(str(ck), progress=_stop_at(95), checkpoint_path=ck, checkpoint_every=30)
     first.clear()
     _expect_same_bits(cavesim.resume(ck, progress=lambda p, d, t: first.append(d) if p == "stage 2" else None),
                       result)
@@ -246,14 +246,10 @@ def test_bad_checkpoints(tmp_path):
     with pytest.raises(cavesim.InputError, match="text.ckpt"):
         cavesim.resume(tmp_path / "text.ckpt")
     token = cavesim.CancelToken()
-
-    def cancel(phase, done, total):
-        if phase == "stage 2" and done == 10:
-            token.cancel()
-
     ck = tmp_path / "good.ckpt"
     with pytest.raises(cavesim.Cancelled):
-        cavesim.run(SMALL, progress=cancel, cancel=token, checkpoint_path=ck, checkpoint_every=10, mesh=False)
+        cavesim.run(SMALL, progress=_cancel_at(token, 10), cancel=token, checkpoint_path=ck, checkpoint_every=10,
+                    mesh=False)
     (tmp_path / "cut.ckpt").write_bytes(ck.read_bytes()[:-100])
     with pytest.raises(cavesim.InputError, match="cut.ckpt"):
         cavesim.resume(tmp_path / "cut.ckpt")

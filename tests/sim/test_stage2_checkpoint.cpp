@@ -174,6 +174,32 @@ std::map<int, std::string> savedStates(const Scenario& s, int every, Domain& d, 
     return saved;
 }
 
+/// Resumes `s` from `bytes`, the state after `iteration` of a run with checkpoints every `every`
+/// (`saved` of them) that ended as `whole`, `rWhole`: the same bits, and the resumed run saves the
+/// checkpoints after it.
+void expectResumeSame(const Scenario& s, int iteration, const std::string& bytes, int every, std::size_t saved,
+                      const Domain& whole, const Stage2Result& rWhole) {
+    Domain d = prepared(s);
+    Stage2Checkpoints ck;
+    ck.resume = &bytes;
+    ck.resumeName = "test";
+    std::map<int, std::string> again;
+    ck.every = every;
+    ck.save = [&](int it, const std::string& b) { again[it] = b; };
+    const Stage2Result r = runStage2(d, s.stage2, {}, {}, ck);
+    expectSameRun(whole, rWhole, d, r);
+    EXPECT_EQ(again.size(), saved - std::size_t(iteration / every));
+}
+
+/// Every cut of `bytes` (a stage-2 state of `s`), at a few hundred places through it, is refused.
+void expectEveryCutRefused(const Scenario& s, const std::string& bytes) {
+    for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 300) {
+        Domain dom = prepared(s);
+        stage2::Carry c(dom.dims);
+        EXPECT_THROW(stage2::decodeCarry(bytes.substr(0, n), "cut", c, dom), InputError) << n;
+    }
+}
+
 }  // namespace
 
 TEST(Stage2Checkpoint, CheckpointsChangeNothing) {
@@ -194,17 +220,8 @@ TEST(Stage2Checkpoint, ResumeFromEveryCheckpointGivesTheSameBits) {
     const auto saved = savedStates(s, 10, whole, rWhole);
     for (const auto& [iteration, bytes] : saved) {
         SCOPED_TRACE("resumed after iteration " + std::to_string(iteration));
-        Domain d = prepared(s);
-        Stage2Checkpoints ck;
-        ck.resume = &bytes;
-        ck.resumeName = "test";
         // The resumed run saves its own checkpoints; they restore to the same state too.
-        std::map<int, std::string> again;
-        ck.every = 10;
-        ck.save = [&](int it, const std::string& b) { again[it] = b; };
-        const Stage2Result r = runStage2(d, s.stage2, {}, {}, ck);
-        expectSameRun(whole, rWhole, d, r);
-        EXPECT_EQ(again.size(), saved.size() - std::size_t(iteration / 10));
+        expectResumeSame(s, iteration, bytes, 10, saved.size(), whole, rWhole);
     }
 }
 
@@ -228,11 +245,7 @@ TEST(Stage2Checkpoint, CutOrDamagedStateIsRefused) {
     Stage2Result r;
     const std::string bytes = savedStates(s, 30, d, r).at(30);
     // Every cut is refused, at a few hundred places through the whole state.
-    for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 300) {
-        Domain dom = prepared(s);
-        stage2::Carry c(dom.dims);
-        EXPECT_THROW(stage2::decodeCarry(bytes.substr(0, n), "cut", c, dom), InputError) << n;
-    }
+    expectEveryCutRefused(s, bytes);
     // A byte too many, another grid, another number of sources.
     {
         Domain dom = prepared(s);
@@ -273,16 +286,7 @@ void resumeEveryCheckpoint(const Scenario& s, int every, int phaseLength) {
     expectSameRun(a, ra, whole, rWhole);  // checkpoints change nothing
     for (const auto& [iteration, bytes] : saved) {
         SCOPED_TRACE("resumed after iteration " + std::to_string(iteration));
-        Domain d = prepared(s);
-        Stage2Checkpoints ck;
-        ck.resume = &bytes;
-        ck.resumeName = "test";
-        std::map<int, std::string> again;
-        ck.every = every;
-        ck.save = [&](int it, const std::string& b) { again[it] = b; };
-        const Stage2Result r = runStage2(d, s.stage2, {}, {}, ck);
-        expectSameRun(whole, rWhole, d, r);
-        EXPECT_EQ(again.size(), saved.size() - std::size_t(iteration / every));
+        expectResumeSame(s, iteration, bytes, every, saved.size(), whole, rWhole);
         // Saving the restored state gives the same bytes.
         Domain dom = prepared(s);
         stage2::Carry c(dom.dims);
@@ -325,12 +329,7 @@ TEST(Stage2Checkpoint, StateOfOtherPhasesIsRefused) {
         EXPECT_THROW(runStage2(dom, other.stage2, {}, {}, ck), InputError);
     };
     // Every cut of a state with phase records is refused.
-    const std::string& mid = saved.at(40);
-    for (std::size_t n = 0; n < mid.size(); n += 1 + mid.size() / 300) {
-        Domain dom = prepared(s);
-        stage2::Carry c(dom.dims);
-        EXPECT_THROW(stage2::decodeCarry(mid.substr(0, n), "cut", c, dom), InputError) << n;
-    }
+    expectEveryCutRefused(s, saved.at(40));
     // Another sink in phase 2, another table in phase 1 (the grid and terminals are the same).
     Scenario sinks = s;
     sinks.stage2.phases[1].sinks = {1};
