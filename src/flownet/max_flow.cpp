@@ -517,38 +517,35 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         // capacity; the reverse's is worked out here from this arc (its flow is −f, its
         // resistance the same) with the same arithmetic as at its own turn.
         solver.begin();
-        const double* const res = resistance;
-        const double* const fl = f;
-        const double* const cp = capacity;
         for (NodeId u = 0; u < nodes; ++u) {
             const double pu = p[u];
             bool any = false;
             for (ArcId a = arcBegin[u], end = arcBegin[u + 1]; a < end; ++a) {
                 const NodeId v = arcTarget[a];
-                const double fa = fl[a];
+                const double fa = f[a];
                 double c;
                 if (u >= voxels || v >= voxels || keepAll) {  // terminal pairs are always kept
                     // Resistance: the sink's own arcs and the arcs into it have the sink costs.
                     const double resA = a >= sinkBegin ? sinkCostOf[a - sinkBegin]
                                         : v == sink    ? sinkCostOf[arcReverse[a] - sinkBegin]
-                                                       : res[a];
+                                                       : resistance[a];
                     double w;
-                    const double r = residualOf(fa, cp[a], resA, w);
+                    const double r = residualOf(fa, capacity[a], resA, w);
                     c = r > flowEps && w + pu - p[v] <= tol ? r : 0.0;
                 } else {
                     // Between voxels: this arc costs w, its reverse (flow −fa, same resistance) wb.
                     const double pv = p[v];
-                    const double w = fa < 0 ? -res[a] : res[a];
-                    const double wb = fa > 0 ? -res[a] : res[a];
+                    const double w = fa < 0 ? -resistance[a] : resistance[a];
+                    const double wb = fa > 0 ? -resistance[a] : resistance[a];
                     const bool tight = w + pu - pv <= tol;
                     const bool tightB = wb + pv - pu <= tol;
                     if (!(tight || tightB)) continue;  // neither arc can carry phase flow
-                    const double r = fa < 0 ? -fa : cp[a] - fa;
+                    const double r = fa < 0 ? -fa : capacity[a] - fa;
                     c = r > flowEps && tight ? r : 0.0;
                     if (!(c > 0)) {  // kept anyway when the reverse has phase capacity
                         const double fb = -fa;
                         if (!tightB) continue;
-                        const double capB = capSymmetric[a] ? cp[a] : cp[arcReverse[a]];
+                        const double capB = capSymmetric[a] ? capacity[a] : capacity[arcReverse[a]];
                         if (!((fb < 0 ? -fb : capB - fb) > flowEps)) continue;
                     }
                 }
