@@ -563,10 +563,9 @@ double upwindUpdate(double ax, double ay, double az, double f) {
     return u;
 }
 
-void EikonalField::prepareSweep(const Grid3<float>& slowness) {
+void EikonalField::prepareSweep(const Grid3<float>& slowness, double largest) {
     // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
-    heavy_ = 0;
-    for (float x : slowness.data) heavy_ = std::max(heavy_, double(x));
+    heavy_ = largest;
     buildFlags(dims_, slowness, seed_, heavy_, flags_);
     adviseHugePages(flags_.data(), flags_.size());
     adviseHugePages(value_.data.data(), value_.size() * sizeof(double));
@@ -619,8 +618,7 @@ void EikonalField::solve(const Dims& dims, const Grid3<float>& slowness, const s
             buckets_.width = width;
             buckets_.bucket.resize(std::size_t(count) + 2);
             buckets_.lowest = buckets_.bucket.size() - 1;
-            // Heavy steps: those into voxels of the largest slowness (the rock), or costlier.
-            prepareSweep(slowness);
+            prepareSweep(slowness, largest);
             BucketQueue queue{buckets_};
             run(queue);
             return;
@@ -679,7 +677,11 @@ std::size_t EikonalField::decrease(const Grid3<float>& slowness, const std::vect
         entries.swap(keep);
     };
     if (useBuckets_) {
-        if (flags_.size() != dims_.count()) prepareSweep(slowness);  // after `restore`
+        if (flags_.size() != dims_.count()) {  // after `restore`
+            float largest = 0;
+            for (float x : slowness.data) largest = std::max(largest, x);
+            prepareSweep(slowness, largest);
+        }
         BucketQueue queue{buckets_};
         run(queue);
         if (buckets_.count > std::max<std::size_t>(std::size_t(1) << 16, 2 * buckets_.compacted)) {

@@ -148,8 +148,9 @@ public:
     void restore(ByteReader& in, const Dims& dims);
 
 private:
-    /// Bucket queue: the heavy step cost, the flags and the window span from `slowness` (the windows empty).
-    void prepareSweep(const Grid3<float>& slowness);
+    /// Bucket queue: the heavy step cost (`largest`, the largest slowness in `slowness`, s per
+    /// voxel), the flags and the window span from `slowness` (the windows empty).
+    void prepareSweep(const Grid3<float>& slowness, double largest);
 
     Dims dims_;
     double cap_ = 0.0;

@@ -146,6 +146,52 @@ private:
     std::vector<long> distance_;
 };
 
+/// A min-heap of (distance, node) entries, 4-ary (children of i: 4i + 1 … 4i + 4; parent
+/// (i − 1) / 4), its storage open so that it is reused from one search to the next.
+struct QuadHeap {
+    using Entry = std::pair<double, NodeId>;
+    std::vector<Entry> entries;
+
+    void push(const Entry& e) {
+        // Sift up from the new leaf.
+        entries.push_back(e);
+        Entry* const h = entries.data();
+        std::size_t i = entries.size() - 1;
+        while (i > 0) {
+            const std::size_t parent = (i - 1) / 4;
+            if (!(e < h[parent])) break;
+            h[i] = h[parent];
+            i = parent;
+        }
+        h[i] = e;
+    }
+
+    /// Removes and returns the smallest entry (the heap is not empty).
+    Entry pop() {
+        // Sift the last entry down from the root.
+        const Entry top = entries.front();
+        const Entry last = entries.back();
+        entries.pop_back();
+        if (entries.empty()) return top;
+        Entry* const h = entries.data();
+        const std::size_t n = entries.size();
+        std::size_t i = 0;
+        for (;;) {
+            const std::size_t c0 = 4 * i + 1;
+            if (c0 >= n) break;
+            std::size_t m = c0;
+            const std::size_t cEnd = std::min(c0 + 4, n);
+            for (std::size_t c = c0 + 1; c < cEnd; ++c)
+                if (h[c] < h[m]) m = c;
+            if (!(h[m] < last)) break;
+            h[i] = h[m];
+            i = m;
+        }
+        h[i] = last;
+        return top;
+    }
+};
+
 /// True when no arc is a self-loop, no two arcs of a node share a head (an arc pair is then the
 /// only link between its two nodes) and every arc between voxel nodes has its reverse's
 /// resistance (so either arc of a pair can tell the other's phase capacity): what
@@ -351,15 +397,14 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     double* const f = flow.data();
 
     // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off).
-    // The heap (4-ary, storage reused by every phase) holds (distance, node) entries that are all
+    // The heap (storage reused by every phase) holds (distance, node) entries that are all
     // distinct — an entry is pushed only when it lowers the node's distance — so nodes leave it
     // in one order whatever the heap's layout: by distance, ties by node id. A popped entry
     // that is no longer its node's distance is stale (the node left earlier); a node that has
     // left is never lowered again (its distance is at most the popped one, and arcs add ≥ 0),
     // so it needs no mark of its own. The sink is reached iff it is settled (`dist` finite).
     std::vector<double> pi(nodes, 0.0), dist(nodes);
-    using Entry = std::pair<double, NodeId>;
-    std::vector<Entry> heap;
+    QuadHeap heap;
     const auto dijkstra = [&](bool throughSink) {
         std::fill(dist.begin(), dist.end(), kInf);
         double* const d = dist.data();
@@ -374,31 +419,11 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         const NodeId to = sink;
         const ArcId scBegin = sinkBegin;
         const double eps = flowEps;
-        heap.clear();
+        heap.entries.clear();
         d[net.source] = 0;
-        heap.push_back({0.0, net.source});
-        while (!heap.empty()) {
-            const auto [du, u] = heap.front();
-            // Pop: sift the last entry down from the root (children of i: 4i + 1 … 4i + 4).
-            const Entry last = heap.back();
-            heap.pop_back();
-            if (!heap.empty()) {
-                Entry* const h = heap.data();
-                const std::size_t n = heap.size();
-                std::size_t i = 0;
-                for (;;) {
-                    const std::size_t c0 = 4 * i + 1;
-                    if (c0 >= n) break;
-                    std::size_t m = c0;
-                    const std::size_t cEnd = std::min(c0 + 4, n);
-                    for (std::size_t c = c0 + 1; c < cEnd; ++c)
-                        if (h[c] < h[m]) m = c;
-                    if (!(h[m] < last)) break;
-                    h[i] = h[m];
-                    i = m;
-                }
-                h[i] = last;
-            }
+        heap.push({0.0, net.source});
+        while (!heap.entries.empty()) {
+            const auto [du, u] = heap.pop();
             if (du != d[u]) continue;  // stale
             if (u == to) break;        // early exit: the rest is at least this far
             const double pu = p[u];
@@ -416,18 +441,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
                 const double nd = du + std::max(0.0, w + pu - p[v]);
                 if (nd < d[v]) {
                     d[v] = nd;
-                    // Push: sift up (parent of i: (i − 1) / 4).
-                    const Entry e{nd, v};
-                    heap.push_back(e);
-                    Entry* const h = heap.data();
-                    std::size_t i = heap.size() - 1;
-                    while (i > 0) {
-                        const std::size_t parent = (i - 1) / 4;
-                        if (!(e < h[parent])) break;
-                        h[i] = h[parent];
-                        i = parent;
-                    }
-                    h[i] = e;
+                    heap.push({nd, v});
                 }
             }
         }
@@ -503,38 +517,35 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         // capacity; the reverse's is worked out here from this arc (its flow is −f, its
         // resistance the same) with the same arithmetic as at its own turn.
         solver.begin();
-        const double* const res = resistance;
-        const double* const fl = f;
-        const double* const cp = capacity;
         for (NodeId u = 0; u < nodes; ++u) {
             const double pu = p[u];
             bool any = false;
             for (ArcId a = arcBegin[u], end = arcBegin[u + 1]; a < end; ++a) {
                 const NodeId v = arcTarget[a];
-                const double fa = fl[a];
+                const double fa = f[a];
                 double c;
                 if (u >= voxels || v >= voxels || keepAll) {  // terminal pairs are always kept
                     // Resistance: the sink's own arcs and the arcs into it have the sink costs.
                     const double resA = a >= sinkBegin ? sinkCostOf[a - sinkBegin]
                                         : v == sink    ? sinkCostOf[arcReverse[a] - sinkBegin]
-                                                       : res[a];
+                                                       : resistance[a];
                     double w;
-                    const double r = residualOf(fa, cp[a], resA, w);
+                    const double r = residualOf(fa, capacity[a], resA, w);
                     c = r > flowEps && w + pu - p[v] <= tol ? r : 0.0;
                 } else {
                     // Between voxels: this arc costs w, its reverse (flow −fa, same resistance) wb.
                     const double pv = p[v];
-                    const double w = fa < 0 ? -res[a] : res[a];
-                    const double wb = fa > 0 ? -res[a] : res[a];
+                    const double w = fa < 0 ? -resistance[a] : resistance[a];
+                    const double wb = fa > 0 ? -resistance[a] : resistance[a];
                     const bool tight = w + pu - pv <= tol;
                     const bool tightB = wb + pv - pu <= tol;
                     if (!(tight || tightB)) continue;  // neither arc can carry phase flow
-                    const double r = fa < 0 ? -fa : cp[a] - fa;
+                    const double r = fa < 0 ? -fa : capacity[a] - fa;
                     c = r > flowEps && tight ? r : 0.0;
                     if (!(c > 0)) {  // kept anyway when the reverse has phase capacity
                         const double fb = -fa;
                         if (!tightB) continue;
-                        const double capB = capSymmetric[a] ? cp[a] : cp[arcReverse[a]];
+                        const double capB = capSymmetric[a] ? capacity[a] : capacity[arcReverse[a]];
                         if (!((fb < 0 ? -fb : capB - fb) > flowEps)) continue;
                     }
                 }
@@ -547,7 +558,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     }
     if (compactBytes == 0) compactBytes = solver.bytes() + bytesOf(capSymmetric);
     out.solverBytes =
-        std::max(compactBytes, lastBytes) + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap);
+        std::max(compactBytes, lastBytes) + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap.entries);
     out.cost = flowCost(net, flow);
     return out;
 }

@@ -1,124 +1,23 @@
 // The least-resistance maximum flow as it was before its phases ran on a compacted graph: every
 // phase ran Boykov–Kolmogorov over the whole network. Kept verbatim (namespace and name aside) as
-// the reference the current solver must reproduce bit for bit (test_max_flow_identity.cpp).
+// the reference the current solver must reproduce bit for bit (test_max_flow_identity.cpp), except
+// that each phase's whole-network Boykov–Kolmogorov is the public `maxFlow` on a copy of the
+// network holding the phase's capacities (the same unchanged runner, with the same arithmetic:
+// flow = capacity − residual on the lower arc of each pair, mirrored), and that it reports no
+// `solverBytes`.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
-#include <iterator>
 #include <limits>
 #include <queue>
-#include <string>
 #include <utility>
 #include <vector>
-
-#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
-#include <boost/graph/compressed_sparse_row_graph.hpp>
-#include <boost/graph/edmonds_karp_max_flow.hpp>
-#include <boost/property_map/function_property_map.hpp>
-#include <boost/property_map/property_map.hpp>
 
 #include "flownet/flow_network.h"
 #include "flownet/max_flow.h"
 
 namespace cavesim::flownet::reference {
-
-using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
-                                                 boost::no_property, NodeId, ArcId>;
-using Edge = boost::graph_traits<Graph>::edge_descriptor;
-
-/// Walks the network's arcs in CSR order as (tail, head) pairs: the sorted edge list Boost's CSR
-/// constructor reads, without materialising it.
-class ArcPairIterator {
-public:
-    using iterator_category = std::input_iterator_tag;
-    using value_type = std::pair<NodeId, NodeId>;
-    using difference_type = std::ptrdiff_t;
-    using pointer = const value_type*;
-    using reference = const value_type&;
-
-    ArcPairIterator(const FlowNetwork& net, ArcId arc) : net_(&net), arc_(arc) { settle(); }
-    reference operator*() const { return pair_; }
-    pointer operator->() const { return &pair_; }
-    ArcPairIterator& operator++() {
-        ++arc_;
-        settle();
-        return *this;
-    }
-    bool operator==(const ArcPairIterator& o) const { return arc_ == o.arc_; }
-    bool operator!=(const ArcPairIterator& o) const { return arc_ != o.arc_; }
-
-private:
-    void settle() {
-        if (arc_ >= net_->arcCount()) return;
-        while (net_->arcBegin[tail_ + 1] <= arc_) ++tail_;
-        pair_ = {tail_, net_->arcTarget[arc_]};
-    }
-    const FlowNetwork* net_;
-    ArcId arc_;
-    NodeId tail_ = 0;
-    value_type pair_{0, 0};
-};
-
-template <typename T>
-std::size_t bytesOf(const std::vector<T>& v) {
-    return v.capacity() * sizeof(T);
-}
-
-/// The reverse of an arc as a Boost edge descriptor, computed on demand from the network's
-/// `arcReverse` (no per-arc array of descriptors).
-struct ReverseEdge {
-    const FlowNetwork* net;
-    Edge operator()(const Edge& e) const {
-        const ArcId a = ArcId(e.idx);
-        return Edge(net->arcTarget[a], net->arcReverse[a]);
-    }
-};
-
-/// The network's topology as a Boost CSR graph, with the vertex maps the solvers need. Arc data
-/// (capacities, residuals) stay in plain vectors indexed by arc and are passed per solve; the
-/// reverse-edge map reads the network's `arcReverse`.
-class BoostSolver {
-public:
-    explicit BoostSolver(const FlowNetwork& net)
-        : net_(net),
-          g_(boost::edges_are_sorted, ArcPairIterator(net, 0), ArcPairIterator(net, ArcId(net.arcCount())),
-             net.nodeCount()),
-          predecessor_(net.nodeCount()),
-          color_(net.nodeCount()),
-          distance_(net.nodeCount(), 0) {}
-
-    /// Max flow with capacities `cap`; `res` receives the residual capacities. Returns the value.
-    double run(const std::vector<double>& cap, std::vector<double>& res, MaxFlowAlgorithm algorithm) {
-        const auto edgeIndex = get(boost::edge_index, g_);
-        const auto vertexIndex = get(boost::vertex_index, g_);
-        const auto capMap = boost::make_iterator_property_map(cap.cbegin(), edgeIndex);
-        const auto resMap = boost::make_iterator_property_map(res.begin(), edgeIndex);
-        const auto revMap = boost::make_function_property_map<Edge, Edge>(ReverseEdge{&net_});
-        const auto predMap = boost::make_iterator_property_map(predecessor_.begin(), vertexIndex);
-        const auto colorMap = boost::make_iterator_property_map(color_.begin(), vertexIndex);
-        if (algorithm == MaxFlowAlgorithm::EdmondsKarp)
-            return boost::edmonds_karp_max_flow(g_, net_.source, net_.sink, capMap, resMap, revMap, colorMap, predMap);
-        std::fill(distance_.begin(), distance_.end(), 0L);
-        const auto distMap = boost::make_iterator_property_map(distance_.begin(), vertexIndex);
-        return boost::boykov_kolmogorov_max_flow(g_, capMap, resMap, revMap, predMap, colorMap, distMap, vertexIndex,
-                                                 net_.source, net_.sink);
-    }
-
-    /// Topology (4 B per arc and node), vertex maps, and Boykov–Kolmogorov's own per-vertex
-    /// arrays (time stamp, two flags).
-    std::size_t bytes() const {
-        return bytesOf(predecessor_) + bytesOf(color_) + bytesOf(distance_) +
-               (net_.nodeCount() + 1 + net_.arcCount()) * sizeof(NodeId) + net_.nodeCount() * (sizeof(long) + 1);
-    }
-
-private:
-    const FlowNetwork& net_;
-    Graph g_;
-    std::vector<Edge> predecessor_;
-    std::vector<boost::default_color_type> color_;
-    std::vector<long> distance_;
-};
 
 inline MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistanceOptions& options = {}) {
     const std::size_t nodes = net.nodeCount();
@@ -205,8 +104,8 @@ inline MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastR
     pi[net.sink] = toSink;
     const double tol = std::max(options.tolerance, 1e-9) * std::max(longest, 1e-300);
 
-    BoostSolver solver(net);
-    std::vector<double> phaseCap(arcs), phaseRes(arcs);
+    FlowNetwork phaseNet = net;  // the network with each phase's capacities
+    std::vector<double>& phaseCap = phaseNet.capacity;
     for (int phase = 1;; ++phase) {
         if (phase > 1) {
             dijkstra(true);
@@ -224,19 +123,17 @@ inline MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastR
                 // The last phase takes every residual arc: plain max flow on what is left.
                 phaseCap[a] = r > flowEps && (tight || last) ? (last ? net.capacity[a] - flow[a] : r) : 0.0;
             }
-        const double pushed = solver.run(phaseCap, phaseRes, MaxFlowAlgorithm::BoykovKolmogorov);
+        const MaxFlowResult pushed = maxFlow(phaseNet, MaxFlowAlgorithm::BoykovKolmogorov);
         for (ArcId a = 0; a < arcs; ++a) {
             const ArcId b = net.arcReverse[a];
             if (a < b) {
-                flow[a] += phaseCap[a] - phaseRes[a];
+                flow[a] += pushed.flow[a];
                 flow[b] = -flow[a];
             }
         }
-        out.value += pushed;
+        out.value += pushed.value;
         if (last) break;
     }
-    out.solverBytes = solver.bytes() + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(settled) +
-                      bytesOf(phaseCap) + bytesOf(phaseRes);
     out.cost = flowCost(net, flow);
     return out;
 }
