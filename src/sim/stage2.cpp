@@ -1002,6 +1002,19 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         for (const auto& sink : dom.sinkVoxels)
             for (std::size_t v : sink) sinkFlags.push_back(dom.flags[v]);
 
+    // The record of phase `index` of the plan as it starts after iteration `first`: what identifies
+    // the phase (its first iteration, table and active terminals).
+    const auto phaseStart = [&](std::size_t index, int first) {
+        const PhasePlan& ph = plan[index];
+        Stage2PhaseRecord r;
+        r.firstIteration = first + 1;
+        r.waterTable = ph.waterTable >= 0 ? ph.waterTable : -1.0;
+        r.fromSite = siteTable && ph.waterTable < 0;
+        r.sinks = activeList(ph.sinks, dom.sinkVoxels.size());
+        r.sources = activeList(ph.sources, dom.sourceVoxels.size());
+        return r;
+    };
+
     // The phase a resumed run continues: the one holding the iteration its state was saved after
     // (the phases before it are done and recorded in the state).
     std::size_t firstPhase = 0;
@@ -1017,11 +1030,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         // Each phase record as this scenario's phases make it (what a phase sets up is derived
         // again below from these; a state of other phases would not continue bit for bit).
         const auto matches = [&](const Stage2PhaseRecord& r, std::size_t index, int first) {
-            const PhasePlan& ph = plan[index];
-            const bool fromSite = siteTable && ph.waterTable < 0;
-            return r.firstIteration == first + 1 && r.waterTable == (ph.waterTable >= 0 ? ph.waterTable : -1.0) &&
-                   r.fromSite == fromSite && r.sinks == activeList(ph.sinks, dom.sinkVoxels.size()) &&
-                   r.sources == activeList(ph.sources, dom.sourceVoxels.size());
+            const Stage2PhaseRecord want = phaseStart(index, first);
+            return r.firstIteration == want.firstIteration && r.waterTable == want.waterTable &&
+                   r.fromSite == want.fromSite && r.sinks == want.sinks && r.sources == want.sources;
         };
         if (!phased) {
             if (!res.phases.empty() || c.phase.firstIteration != 0) throw foreign();
@@ -1078,12 +1089,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         const bool fromSite = siteTable && ph.waterTable < 0;  // this phase's table is the site's surface
         const bool hasTable = ph.waterTable >= 0 || fromSite;
         if (phased && !continued) {  // without phases the record stays empty
-            prec = Stage2PhaseRecord{};
-            prec.firstIteration = it + 1;
-            prec.waterTable = ph.waterTable >= 0 ? ph.waterTable : -1.0;
-            prec.fromSite = fromSite;
-            prec.sinks = activeList(ph.sinks, dom.sinkVoxels.size());
-            prec.sources = activeList(ph.sources, dom.sourceVoxels.size());
+            prec = phaseStart(phaseIndex, it);
             prec.channelVoxelsStart = st.channelVoxels;
         }
         if (phased) {
