@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include "app/cave_maps.h"
 #include "app/checkpoint.h"
@@ -74,6 +75,33 @@ void runStages(Domain& dom, const Scenario& s, Rng& rng, RunRecord& rec, const P
     }
 }
 
+void wireCheckpoints(StageHooks& hooks, const Checkpoint* resume, const std::string& resumeName,
+                     const std::string& advice, int every, const Checkpoint& base,
+                     std::function<void(Checkpoint&)> save) {
+    if (!resume && every <= 0) return;
+    auto domainHash = std::make_shared<std::uint64_t>(0);  // the domain at the start of stage 2
+    hooks.beforeStage2 = [domainHash, resume, resumeName, advice, then = std::move(hooks.beforeStage2)](const Domain& d,
+                                                                                                        RunRecord& r) {
+        *domainHash = domainFingerprint(d);
+        if (resume) checkResumedDomain(*domainHash, *resume, resumeName, advice);
+        if (then) then(d, r);
+    };
+    if (resume) {
+        hooks.checkpoints.resume = &resume->stage2;
+        hooks.checkpoints.resumeName = resumeName;
+    }
+    if (every > 0) {
+        hooks.checkpoints.every = every;
+        hooks.checkpoints.save = [domainHash, base, save = std::move(save)](int it, const std::string& state) {
+            Checkpoint c = base;
+            c.domainHash = *domainHash;
+            c.iteration = it;
+            c.stage2 = state;
+            save(c);
+        };
+    }
+}
+
 std::vector<double> familyStrikes(const Scenario& s) {
     std::vector<double> strikes;
     for (const FractureFamily& f : s.fractureFamilies) {
@@ -129,14 +157,9 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
                              std::to_string(r.timing.stage1).substr(0, 5) + " s");
     };
     std::vector<std::string> stage2Files;  // files stage 2 wrote so far: a checkpoint carries them
-    std::uint64_t domainHash = 0;          // the domain at the start of stage 2 (checkpoints)
-    const bool checkpointing = options.checkpoint.every > 0;
     hooks.beforeStage2 = [&](const Domain& d, RunRecord& r) {
         r.connectedAtStart = sourcesConnectedAtStart(d);
-        if (!checkpointing && !options.resume) return;
-        domainHash = domainFingerprint(d);
         if (!options.resume) return;
-        checkResumedDomain(domainHash, *options.resume, options.resumeName, "rerun `cavesim run`");
         for (const auto& [path, bytes] : options.resume->files) {
             writeFileAtomic(dir.file(path).string(), bytes);
             stage2Files.push_back(path);
@@ -154,29 +177,20 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
             frames.push_back(render::downsample(frame, reduce));
         };
     }
-    if (options.resume) {
-        hooks.checkpoints.resume = &options.resume->stage2;
-        hooks.checkpoints.resumeName = options.resumeName;
-    }
-    if (checkpointing) {
-        hooks.checkpoints.every = options.checkpoint.every;
-        hooks.checkpoints.save = [&](int it, const std::string& state) {
-            const Stopwatch tc;
-            Checkpoint c = options.checkpoint;
-            c.domainHash = domainHash;
-            c.iteration = it;
-            for (const std::string& f : stage2Files) c.files.emplace_back(f, readFileBytes(dir.file(f)));
-            c.frames = frames;
-            c.stage2 = state;
-            const std::string bytes = encodeCheckpoint(c);
-            const double encoded = tc.seconds();
-            writeFileAtomic((options.checkpointDir / kCheckpointFile).string(), bytes);
-            char line[160];
-            std::snprintf(line, sizeof line, "checkpoint after iteration %d: %.1f MB in %.3f s (%.3f s to encode)", it,
-                          double(bytes.size()) / 1e6, tc.seconds(), encoded);
-            say(options.log, line);
-        };
-    }
+    wireCheckpoints(hooks, options.resume, options.resumeName, "rerun `cavesim run`", options.checkpoint.every,
+                    options.checkpoint, [&](Checkpoint& c) {
+                        const Stopwatch tc;
+                        for (const std::string& f : stage2Files) c.files.emplace_back(f, readFileBytes(dir.file(f)));
+                        c.frames = frames;
+                        const std::string bytes = encodeCheckpoint(c);
+                        const double encoded = tc.seconds();
+                        writeFileAtomic((options.checkpointDir / kCheckpointFile).string(), bytes);
+                        char line[160];
+                        std::snprintf(line, sizeof line,
+                                      "checkpoint after iteration %d: %.1f MB in %.3f s (%.3f s to encode)",
+                                      c.iteration, double(bytes.size()) / 1e6, tc.seconds(), encoded);
+                        say(options.log, line);
+                    });
     runStages(dom, s, rng, rec, progress, hooks);
     if (rec.stage2) {
         if (frames.size() > 1)

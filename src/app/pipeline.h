@@ -66,6 +66,16 @@ struct StageHooks {
     Stage2Checkpoints checkpoints;
 };
 
+/// Stage-2 checkpoints in `hooks`, the same for `cavesim run`/`resume` and the library. When `resume`
+/// is given or `every` > 0, the domain is fingerprinted before stage 2 (domainFingerprint); a resumed
+/// run's fingerprint is checked against `resume` (checkResumedDomain with `resumeName`, `advice`) and
+/// stage 2 continues from `resume`'s state. Every `every` iterations `save` gets `base` with that
+/// fingerprint, the iteration and stage 2's state, to complete and write. A `beforeStage2` already in
+/// `hooks` runs after the check. `resume` must outlive the run.
+void wireCheckpoints(StageHooks& hooks, const Checkpoint* resume, const std::string& resumeName,
+                     const std::string& advice, int every, const Checkpoint& base,
+                     std::function<void(Checkpoint& checkpoint)> save);
+
 /// The enabled stages of `scenario` on `domain` as a run runs them (built by buildDomain with
 /// `rng`, which the stages draw on next): stage 1 (runScenarioStage1), the interim step and
 /// stage 2, their results and times in `record`.

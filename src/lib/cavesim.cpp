@@ -533,34 +533,17 @@ std::unique_ptr<Result::Impl> runWith(const Scenario& scenario, const cavesim::S
         };
     // Checkpoints in the command's format (app/checkpoint.h): the effective scenario as its text
     // under the scenario's name, so that app::checkpointScenario reads it back; no pictures.
-    const bool checkpointing = options.checkpointEvery > 0;
     app::Checkpoint made;
-    if (checkpointing) {
+    if (options.checkpointEvery > 0) {
         made.scenarioPath = base.path.empty() ? std::string("<library>") : base.path;
         made.scenarioText = scenarioToToml(base);
         made.every = options.checkpointEvery;
         made.scenarioHash = app::scenarioHash(s);
     }
-    std::uint64_t domainHash = 0;  // the domain at the start of stage 2
-    hooks.beforeStage2 = [&](const Domain& d, app::RunRecord&) {
-        if (!checkpointing && !resume) return;
-        domainHash = app::domainFingerprint(d);
-        if (resume) app::checkResumedDomain(domainHash, *resume, shown, "start the run again");
-    };
-    if (resume) {
-        hooks.checkpoints.resume = &resume->stage2;
-        hooks.checkpoints.resumeName = shown;
-    }
-    if (checkpointing) {
-        hooks.checkpoints.every = options.checkpointEvery;
-        hooks.checkpoints.save = [&](int it, const std::string& state) {
-            app::Checkpoint c = made;
-            c.domainHash = domainHash;
-            c.iteration = it;
-            c.stage2 = state;
+    app::wireCheckpoints(
+        hooks, resume, shown, "start the run again", options.checkpointEvery, made, [&](app::Checkpoint& c) {
             writeFileAtomic(options.checkpointPath, app::encodeCheckpoint(c));  // RuntimeError when it fails
-        };
-    }
+        });
     app::runStages(dom, s, rng, rec, progress, hooks);
     if (rec.stage1) {
         report.zones = rec.stage1->zones;
