@@ -155,27 +155,31 @@ inline void forEachMasked(const Dims& d, const TileCtx& c, const TileMask& mask,
 template <typename Fn>
 void forEachActiveInVoxelOrder(const Stage2State& st, bool onlyNearSenders, Fn&& fn) {
     const Dims& d = st.dims;
-    const std::vector<std::uint32_t>& order = st.slotsInOrder;
+    // Plain pointers: GCC 12 otherwise warns of an impossible iteration count
+    // (-Waggressive-loop-optimizations) where `erode` inlines this loop.
+    const std::uint32_t* const order = st.slotsInOrder.data();
+    const std::size_t count = st.slotsInOrder.size();
+    const std::uint32_t* const tiles = st.activeTiles.data();
     const std::uint32_t perRow = std::uint32_t(st.tilesX), perLayer = perRow * std::uint32_t(st.tilesY);
     std::size_t a = 0;
-    while (a < order.size()) {
+    while (a < count) {
         // The active tiles of one tile layer tk (sorted: by tile row tj, then ti); voxel order
         // visits each z-slice of the layer row by row.
-        const std::uint32_t layer = st.activeTiles[order[a]] / perLayer;
+        const std::uint32_t layer = tiles[order[a]] / perLayer;
         std::size_t b = a;
-        while (b < order.size() && st.activeTiles[order[b]] / perLayer == layer) ++b;
+        while (b < count && tiles[order[b]] / perLayer == layer) ++b;
         const TileCtx first = tileCtx(st, order[a]);
         for (int lk = 0; lk < first.nk; ++lk) {
             std::size_t x = a;
             while (x < b) {
-                const std::uint32_t row = st.activeTiles[order[x]] / perRow;
+                const std::uint32_t row = tiles[order[x]] / perRow;
                 std::size_t y = x;
-                while (y < b && st.activeTiles[order[y]] / perRow == row) ++y;
+                while (y < b && tiles[order[y]] / perRow == row) ++y;
                 const int nj = tileCtx(st, order[x]).nj;
                 for (int lj = 0; lj < nj; ++lj)
-                    for (std::size_t z = x; z < y; ++z) {
-                        if (onlyNearSenders && !st.nearSender[order[z]]) continue;  // exact zeros there
-                        const TileCtx c = tileCtx(st, order[z]);
+                    for (const std::uint32_t *slot = order + x, *rowEnd = order + y; slot != rowEnd; ++slot) {
+                        if (onlyNearSenders && !st.nearSender[*slot]) continue;  // exact zeros there
+                        const TileCtx c = tileCtx(st, *slot);
                         const std::size_t at = d.index(c.i0, c.j0 + lj, c.k0 + lk);
                         const std::size_t prow = c.base + std::size_t(8 * (lj + 8 * lk));
                         for (int li = 0; li < c.ni; ++li) fn(at + std::size_t(li), prow + std::size_t(li));

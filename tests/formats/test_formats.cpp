@@ -366,7 +366,7 @@ TEST_F(FormatsTest, CaveMeshAndVdbExport) {
         }
         const auto& n = m.normals[v];
         EXPECT_NEAR(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], 1.0, 1e-5);
-        if (m.vertices[v][2] > 2.0f && std::abs(m.vertices[v][0] - 2.0f) < 0.3f) EXPECT_GT(n[2], 0.5f);
+        if (m.vertices[v][2] > 2.0f && std::abs(m.vertices[v][0] - 2.0f) < 0.3f) { EXPECT_GT(n[2], 0.5f); }
     }
     EXPECT_NEAR(lo[0], 0.5, 0.1);
     EXPECT_NEAR(hi[0], 5.5, 0.1);

@@ -82,8 +82,8 @@ TEST(Parameters, EveryEntryIsDocumented) {
             EXPECT_FALSE(p.unit.empty());  // "–" when dimensionless
             EXPECT_FALSE(paramRangeText(p).empty());
             EXPECT_TRUE(bool(p.get) && bool(p.set) && bool(p.address));
-            if (p.type == ParamType::kChoice || p.type == ParamType::kChoiceList) EXPECT_GE(p.choices.size(), 2u);
-            if (p.type == ParamType::kInt || p.type == ParamType::kReal) EXPECT_LE(p.range.lo, p.range.hi);
+            if (p.type == ParamType::kChoice || p.type == ParamType::kChoiceList) { EXPECT_GE(p.choices.size(), 2u); }
+            if (p.type == ParamType::kInt || p.type == ParamType::kReal) { EXPECT_LE(p.range.lo, p.range.hi); }
             const std::string reference = scenarioReferenceMarkdown();
             EXPECT_NE(reference.find("| `" + p.key + "` |"), std::string::npos);
         }
