@@ -30,7 +30,7 @@ std::string validateSummary(const std::string& path) {
                   "%s: ok: scenario '%s', grid %d x %d x %d (%.3g m voxels), %zu source(s), %zu sink(s), stage 1 %s, "
                   "stage 2 %s",
                   path.c_str(), s.name.c_str(), s.size[0], s.size[1], s.size[2], s.voxelSize,
-                  s.sources.size() + rechargeSources(s).size() + (s.siteData ? s.siteData->sources.size() : 0),
+                  allSources(s).size(),
                   s.sinks.size() + (s.siteData ? s.siteData->sinks.size() : 0), s.stage1.enabled ? "on" : "off",
                   s.stage2.enabled ? (std::to_string(s.stage2.totalIterations()) + " iterations").c_str() : "off");
     return std::string(buf) + "; " + describeEstimate(estimateRun(s, int(tbb::info::default_concurrency())));

@@ -79,21 +79,20 @@ Domain emptyDomain(const Dims& dims, double voxelSize, float porosity) {
 
 void placeTerminals(Domain& dom, const Scenario& s) {
     const Dims& d = dom.dims;
-    // The scenario's terminals, then the site's.
-    const auto place = [&](const std::vector<SourceSpec>& sources, const std::vector<SinkSpec>& sinks) {
-        for (const SourceSpec& src : sources) {
-            dom.sourceVoxels.push_back(boxVoxels(d, src.box));
-            dom.sourcePressure.push_back(src.pressure);
-            for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
-        }
+    for (const SourceSpec& src : allSources(s)) {
+        dom.sourceVoxels.push_back(boxVoxels(d, src.box));
+        dom.sourcePressure.push_back(src.pressure);
+        for (std::size_t v : dom.sourceVoxels.back()) dom.flags[v] |= kSource;
+    }
+    // The scenario's sinks, then the site's springs.
+    const auto placeSinks = [&](const std::vector<SinkSpec>& sinks) {
         for (const SinkSpec& snk : sinks) {
             dom.sinkVoxels.push_back(boxVoxels(d, snk.box));
             for (std::size_t v : dom.sinkVoxels.back()) dom.flags[v] |= kSink;
         }
     };
-    place(s.sources, s.sinks);
-    if (!s.recharge.empty()) place(rechargeSources(s), {});
-    if (s.siteData) place(s.siteData->sources, s.siteData->sinks);
+    placeSinks(s.sinks);
+    if (s.siteData) placeSinks(s.siteData->sinks);
 }
 
 Domain buildDomain(const Scenario& s, Rng& rng) {

@@ -61,11 +61,7 @@ RunEstimate estimateRun(const Scenario& s, int threads) {
     const double n = double(s.size[0]) * double(s.size[1]) * double(s.size[2]);
     e.voxels = n;
     const double domain = kDomainBytes * n;
-    std::vector<SourceSpec> all = s.sources;
-    if (!s.recharge.empty())
-        for (const SourceSpec& r : rechargeSources(s)) all.push_back(r);
-    if (s.siteData)  // a site's sinkholes are sources too (after site::loadSite)
-        all.insert(all.end(), s.siteData->sources.begin(), s.siteData->sources.end());
+    const std::vector<SourceSpec> all = allSources(s);
     const double sources = double(all.size());
     // With unequal pressures the stronger fronts cross the weaker zones (scale_512: 19 bytes a
     // voxel in all with equal pressures, 43 with pressures 3, 1.5, 1, 1, 2, 1; bench/README.md).

@@ -224,6 +224,16 @@ std::vector<SourceSpec> rechargeSources(const Scenario& s, std::vector<std::size
     return all;
 }
 
+std::vector<SourceSpec> allSources(const Scenario& s) {
+    std::vector<SourceSpec> all = s.sources;
+    if (!s.recharge.empty()) {
+        const std::vector<SourceSpec> inputs = rechargeSources(s);
+        all.insert(all.end(), inputs.begin(), inputs.end());
+    }
+    if (s.siteData) all.insert(all.end(), s.siteData->sources.begin(), s.siteData->sources.end());
+    return all;
+}
+
 void validateRecharge(const Scenario& s) {
     std::size_t total = s.sources.size() + (s.siteData ? s.siteData->sources.size() : 0);
     const int nx = s.size[0], ny = s.size[1], nz = s.size[2];

@@ -35,6 +35,11 @@ namespace cavesim {
 ///   input's column is all air under a `[site] dem`
 std::vector<SourceSpec> rechargeSources(const Scenario& scenario, std::vector<std::size_t>* perEntry = nullptr);
 
+/// Every source of the run in the domain's order (source index i is `Domain::sourceVoxels[i]`):
+/// the `[[source]]` entries, the recharge's inputs, then a loaded site's sinkholes.
+/// @throw InputError as `rechargeSources`
+std::vector<SourceSpec> allSources(const Scenario& scenario);
+
 /// The highest layer of a column whose land surface lies at elevation `land` (world metres): the
 /// highest voxel whose centre, `site.origin` z + (k + 0.5) · voxelSize, is not above it — the rule
 /// that makes the voxels above the land air (domain.cpp); −1 when every voxel of the column is air.

@@ -156,7 +156,7 @@ template <typename Fn>
 void forEachActiveInVoxelOrder(const Stage2State& st, bool onlyNearSenders, Fn&& fn) {
     const Dims& d = st.dims;
     // Plain pointers: GCC 12 otherwise warns of an impossible iteration count
-    // (-Waggressive-loop-optimizations) where `erode` inlines this loop.
+    // (-Waggressive-loop-optimizations) where `erode` and `moveWater` inline this loop.
     const std::uint32_t* const order = st.slotsInOrder.data();
     const std::size_t count = st.slotsInOrder.size();
     const std::uint32_t* const tiles = st.activeTiles.data();
