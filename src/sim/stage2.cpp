@@ -813,6 +813,26 @@ double pressureNeeded(Stage2State& st, const Grid3<double>& pressure) {
     return m;
 }
 
+double pressureRead(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure) {
+    // The next iteration's senders are the voxels holding at least kMinFlowingWater now (no sink)
+    // and the sources (refilled first): only tiles holding water can have senders. Stored values
+    // are at least the true ones, so their largest bounds the true pressure of every sender.
+    std::vector<double> top(st.activeTiles.size(), 0.0);
+    forEachTile(st, [&](const TileCtx& c) {
+        if (!st.wetNow[c.slot]) return;
+        double m = 0;
+        forEachVoxel(st.dims, c, [&](std::size_t v, std::size_t, int, int, int) {
+            if (st.water[v] >= kMinFlowingWater && !(dom.flags[v] & kSink)) m = std::max(m, pressure[v]);
+        });
+        top[c.slot] = m;
+    });
+    double m = 0;
+    for (double x : top) m = std::max(m, x);  // max is order-free
+    for (const auto& source : dom.sourceVoxels)
+        for (std::size_t v : source) m = std::max(m, pressure[v]);
+    return m;
+}
+
 std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure,
                                          int iteration) {
     double stored = 0;
@@ -1064,7 +1084,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     std::vector<std::size_t> changed, conducting;
     // Water and the settled pressure field into the domain.
     const auto publish = [&] {
-        pressure.settle(rate);
+        const Stopwatch tp;
+        pressure.settle(rate);  // the sweeps that waited beyond the water
+        res.pressureSeconds += tp.seconds();
         for (std::size_t v = 0; v < n; ++v) {
             dom.water[v] = float(st.water[v]);
             dom.pressure[v] = float(pressure.value()[v]);
@@ -1179,8 +1201,9 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
             // Pressure: propagate the decreases caused by new channel voxels.
             {
                 const Stopwatch tp;
-                rec.pressureUpdates =
-                    long(updatePressure(pressure, rate, changed, pressureNeeded(st, pressure.value())));
+                const double needed = gravity ? pressureNeeded(st, pressure.value())
+                                              : pressureRead(dom, st, pressure.value());
+                rec.pressureUpdates = long(updatePressure(pressure, rate, changed, needed));
                 res.pressureSeconds += tp.seconds();
             }
 
@@ -1229,7 +1252,7 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
 
     res.activeTiles = long(st.activeTiles.size());
     res.tiles = long(st.tileSlot.size());
-    publish();  // the sweeps that waited beyond the water
+    publish();
     const double net = stored - (res.totalInjected - res.totalDrained);
     res.waterBalanceRelError = res.totalInjected > 0 ? std::abs(net) / res.totalInjected : 0.0;
     if (!(res.waterBalanceRelError < 1e-6)) {

@@ -196,8 +196,8 @@ void startStage2(Domain& domain, const Stage2Options& options, Stage2State& stat
 /// Step 7: the pressure after the voxels in `newChannel` took the channel rate (rates only fall,
 /// so pressure only falls): the decrease re-propagated from them through `pressure`. Returns the
 /// number of voxels whose pressure changed.
-/// Only values up to `limit` are made final (pressureNeeded: the largest pressure of the active
-/// tiles, the only voxels the next iteration reads); the rest of the sweep waits in `pressure`
+/// Only values up to `limit` are made final (pressureRead, or pressureNeeded with a water table:
+/// bounds of every pressure the next iteration depends on); the rest of the sweep waits in `pressure`
 /// until it is needed or settled (EikonalField::decrease). Returns the number of voxels whose
 /// pressure changed in this call.
 std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>& rate,
@@ -207,6 +207,13 @@ std::size_t updatePressure(fastmarch::EikonalField& pressure, const Grid3<float>
 /// An upper bound of the true pressure of every voxel the next iteration reads: the largest
 /// pressure stored on each active tile when it was first asked (pressure only falls).
 double pressureNeeded(Stage2State& state, const Grid3<double>& pressure);
+
+/// An upper bound of the true pressure of every voxel whose pressure decides what the next
+/// iteration does without a water table: the largest stored pressure of its senders (voxels
+/// holding water, sources). A neighbour above the bound is not offered water whether its stored
+/// value is final or not (stored values only exceed the true ones), so only values up to the bound
+/// need be final.
+double pressureRead(const Domain& dom, const Stage2State& state, const Grid3<double>& pressure);
 
 /// Sources joined to a sink through channel voxels (26-connected through channel, source and
 /// sink voxels), in source order. A breadth-first search over the whole grid: the reference for
