@@ -815,13 +815,14 @@ double pressureNeeded(Stage2State& st, const Grid3<double>& pressure) {
 
 double pressureRead(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure) {
     // The next iteration's senders are the voxels holding at least kMinFlowingWater now (no sink)
-    // and the sources (refilled first): only tiles holding water can have senders. Stored values
-    // are at least the true ones, so their largest bounds the true pressure of every sender.
+    // and the sources (refilled first). Outside this iteration's work masks no voxel sent or
+    // received, so none holds that much: only the masks are walked. Stored values are at least
+    // the true ones, so their largest bounds the true pressure of every sender.
     std::vector<double> top(st.activeTiles.size(), 0.0);
     forEachTile(st, [&](const TileCtx& c) {
-        if (!st.wetNow[c.slot]) return;
+        if (!st.nearSender[c.slot]) return;
         double m = 0;
-        forEachVoxel(st.dims, c, [&](std::size_t v, std::size_t, int, int, int) {
+        forEachMasked(st.dims, c, st.workMask[c.slot], [&](std::size_t v, std::size_t, int, int, int) {
             if (st.water[v] >= kMinFlowingWater && !(dom.flags[v] & kSink)) m = std::max(m, pressure[v]);
         });
         top[c.slot] = m;
