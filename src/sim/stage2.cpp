@@ -333,10 +333,22 @@ void Stage2State::activateTile(std::uint32_t tile) {
     senderMask.push_back(TileMask{});
     workMask.push_back(TileMask{});
     previousMask.push_back(TileMask{});
+    ExactSum sum;  // a tile is activated before water reaches it, but a hand-made state may hold some
+    forEachVoxel(dims, tileCtx(*this, activeTiles.size() - 1),
+                 [&](std::size_t v, std::size_t, int, int, int) { sum.add(water[v]); });
+    tileWater.push_back(sum);
     const std::size_t n = activeTiles.size() * kTileVoxels;
     for (std::vector<double>* f : {&norm, &scale, &incoming, &fc, &fa, &upShare, &drainedHere, &erodedHere})
         f->resize(n, 0.0);
     accept.resize(n, 1.0);
+}
+
+void Stage2State::recountWater() {
+    forEachTile(*this, [&](const TileCtx& c) {
+        ExactSum sum;
+        forEachVoxel(dims, c, [&](std::size_t v, std::size_t, int, int, int) { sum.add(water[v]); });
+        tileWater[c.slot] = sum;
+    });
 }
 
 void Stage2State::refreshTiles() {
@@ -372,11 +384,13 @@ void activateWet(Stage2State& st) {
     for (std::size_t v = 0; v < st.water.size(); ++v)
         if (st.water[v] > 0) wetTile(st, tileOf(st, v));
     st.refreshTiles();
+    st.recountWater();
 }
 
 void activateAll(Stage2State& st) {
     for (std::size_t t = 0; t < st.tileSlot.size(); ++t) wetTile(st, std::uint32_t(t));
     st.refreshTiles();
+    st.recountWater();
 }
 
 std::size_t growActiveTiles(Stage2State& st) {
@@ -510,6 +524,9 @@ double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage
         if (st.water[v] < target) {
             injected += target - st.water[v];
             if (perSource) (*perSource)[std::size_t(r.source)] += target - st.water[v];
+            // An inactive tile is activated below, and counts its water then.
+            const std::int32_t slot = st.tileSlot[tileOf(st, v)];
+            if (slot >= 0) st.tileWater[std::size_t(slot)].replace(st.water[v], target);
             st.water[v] = target;
         }
         if (st.water[v] > 0) grown = wetTile(st, tileOf(st, v)) || grown;
@@ -660,27 +677,36 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
             });
         });
     });
+    // Per slot: Σ f_c and the water drained (order-free sums, added up below in any order).
+    std::vector<ExactSum> movedIn(st.activeTiles.size()), drainedIn(st.activeTiles.size());
     forEachTile(st, [&](const TileCtx& c) {
         if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
         bool wet = st.wetNow[c.slot];
         st.waterChanged[c.slot] = 1;
+        ExactSum& tileWater = st.tileWater[c.slot];
+        ExactSum& moved = movedIn[c.slot];
+        ExactSum& drained = drainedIn[c.slot];
         forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int, int, int) {
+            const double before = st.water[v];
             st.water[v] += st.accept[p] * st.incoming[p] - st.fc[p];
             st.drainedHere[p] = 0;
             if (dom.flags[v] & kSink) {
                 st.drainedHere[p] = st.water[v];
+                drained.add(st.water[v]);
                 st.water[v] = 0;
             }
+            moved.add(st.fc[p]);
+            tileWater.replace(before, st.water[v]);
             wet = wet || st.water[v] > 0;
         });
         st.wetNow[c.slot] = wet ? 1 : 0;
     });
-    double drained = 0, moved = 0;
-    forEachActiveInVoxelOrder(st, true, [&](std::size_t v, std::size_t p) {
-        moved += st.fc[p];
-        if (dom.flags[v] & kSink) drained += st.drainedHere[p];
-    });
-    return {moved, drained};
+    ExactSum moved, drained;
+    for (std::size_t s = 0; s < movedIn.size(); ++s) {
+        moved += movedIn[s];
+        drained += drainedIn[s];
+    }
+    return {moved.value(), drained.value()};
 }
 
 void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending, Stage2State& st) {
@@ -738,6 +764,7 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
     const float threshold = float(g.channelThreshold);
     const Dims& d = dom.dims;
     std::vector<std::vector<std::size_t>> fresh(st.activeTiles.size()), conducting(st.activeTiles.size());
+    std::vector<ExactSum> erodedIn(st.activeTiles.size());  // per slot, added up below in any order
     forEachTile(st, [&](const TileCtx& c) {
         const TileMask& work = st.workMask[c.slot];
         TileMask& previous = st.previousMask[c.slot];
@@ -760,6 +787,7 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
                 if (dR > 0) {
                     dom.porosity[v] = std::min(1.f, float(double(R) + dR));
                     st.erodedHere[p] = double(dom.porosity[v]) - double(R);
+                    erodedIn[c.slot].add(st.erodedHere[p]);
                     opened = true;
                 }
             }
@@ -773,9 +801,9 @@ double erode(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>&
         newConducting.insert(newConducting.end(), conducting[s].begin(), conducting[s].end());
         st.channelVoxels += long(conducting[s].size());
     }
-    double eroded = 0;
-    forEachActiveInVoxelOrder(st, true, [&](std::size_t, std::size_t p) { eroded += st.erodedHere[p]; });
-    return eroded;
+    ExactSum eroded;
+    for (const ExactSum& e : erodedIn) eroded += e;
+    return eroded.value();
 }
 
 void startStage2(Domain& dom, const Stage2Options& g, Stage2State& st, Grid3<float>& rate) {
@@ -836,13 +864,20 @@ double pressureRead(const Domain& dom, const Stage2State& st, const Grid3<double
 
 std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure,
                                          int iteration) {
-    double stored = 0;
-    bool finite = true;
-    forEachActiveInVoxelOrder(st, false, [&](std::size_t v, std::size_t) {
-        stored += st.water[v];
-        finite = finite && std::isfinite(st.water[v]) && std::isfinite(dom.flow[v]) && std::isfinite(pressure[v]);
+    ExactSum total;
+    for (const ExactSum& w : st.tileWater) total += w;
+    const double stored = total.value();
+    std::vector<std::uint8_t> bad(st.activeTiles.size(), 0);
+    forEachTile(st, [&](const TileCtx& c) {
+        if (!st.nearSender[c.slot]) return;  // nothing changed here this iteration
+        bool finite = true;
+        forEachMasked(st.dims, c, st.workMask[c.slot], [&](std::size_t v, std::size_t, int, int, int) {
+            finite = finite && std::isfinite(st.water[v]) && std::isfinite(dom.flow[v]) && std::isfinite(pressure[v]);
+        });
+        bad[c.slot] = finite ? 0 : 1;
     });
-    if (finite) return {stored, st.channelVoxels};
+    if (std::isfinite(stored) && std::find(bad.begin(), bad.end(), std::uint8_t(1)) == bad.end())
+        return {stored, st.channelVoxels};
     // Name the quantity that went bad first, in cause-before-effect order, and its first voxel.
     const auto fail = [&](const char* name, std::size_t v, double x) {
         const Index3 p = dom.dims.coord(v);
@@ -1202,8 +1237,8 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
             // Pressure: propagate the decreases caused by new channel voxels.
             {
                 const Stopwatch tp;
-                const double needed = gravity ? pressureNeeded(st, pressure.value())
-                                              : pressureRead(dom, st, pressure.value());
+                const double needed =
+                    gravity ? pressureNeeded(st, pressure.value()) : pressureRead(dom, st, pressure.value());
                 rec.pressureUpdates = long(updatePressure(pressure, rate, changed, needed));
                 res.pressureSeconds += tp.seconds();
             }

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/exact_sum.h"
 #include "core/grid.h"
 #include "fastmarch/fast_marching.h"
 #include "sim/domain.h"
@@ -75,6 +76,9 @@ struct Stage2State {
     std::vector<TileMask> senderMask;        ///< per slot: voxels that send this iteration
     std::vector<TileMask> workMask;          ///< per slot: senders and their 26 neighbours (only these do work)
     std::vector<TileMask> previousMask;      ///< per slot: workMask of the last iteration
+    /// per slot: the water of its voxels, an order-free sum kept up to date by every step that
+    /// changes water (refillSources, moveWater), so the total needs no walk over the tiles
+    std::vector<ExactSum> tileWater;
 
     // Per-voxel transients of the active tiles (slot · 512 + local).
     std::vector<double> norm;         ///< Σ weights of a sender's participants; 0 for a voxel that sends nothing
@@ -100,6 +104,8 @@ struct Stage2State {
     void activateTile(std::uint32_t tile);
     /// Updates `neighbourBase` and `slotsInOrder` after tiles were activated.
     void refreshTiles();
+    /// Sums `tileWater` again from `water` (after water was set by hand, or restored).
+    void recountWater();
 };
 
 /// Activates every tile holding water, and the tiles around them (a full-grid scan: for tests and
@@ -167,7 +173,7 @@ double offerOf(const Domain& domain, const Grid3<double>& pressure, TransportWei
 void computeAcceptance(const Domain& domain, const Grid3<double>& pressure, TransportWeight weight, Stage2State& state);
 
 /// Step 4: moves the accepted water, sets f_c (water that left each voxel) and drains the sinks.
-/// Returns {Σ f_c, water drained}, both summed in voxel order.
+/// Returns {Σ f_c, water drained}, both order-free sums (ExactSum).
 std::pair<double, double> moveWater(const Domain& domain, const Grid3<double>& pressure, TransportWeight weight,
                                     Stage2State& state);
 
@@ -182,8 +188,8 @@ void blendFlow(const Domain& domain, const Grid3<double>& pressure, FlowBlending
 /// rate on a protochannel) in `rate` when that is lower, and its index is appended to `newChannel`
 /// (tile by tile); every voxel newly flagged channel is appended to `newConducting` and counted
 /// in `state.channelVoxels`.
-/// Only active tiles are visited (elsewhere f = 0 and porosity does not change). Returns Σ ΔR in
-/// voxel order.
+/// Only active tiles are visited (elsewhere f = 0 and porosity does not change). Returns Σ ΔR, an
+/// order-free sum (ExactSum).
 double erode(Domain& domain, const Stage2Options& options, Stage2State& state, Grid3<float>& rate,
              std::vector<std::size_t>& newChannel, std::vector<std::size_t>& newConducting);
 
@@ -229,10 +235,13 @@ void reachFromSinks(const Domain& domain, Stage2State& state, const std::vector<
 /// reached one. Returns the sources (in order) with a reached voxel.
 std::vector<bool> extendReach(const Domain& domain, Stage2State& state, const std::vector<std::size_t>& newConducting);
 
-/// Step 8: Σ water (in voxel order, over the active tiles: there is no water elsewhere) and
-/// `state.channelVoxels`, with the finite check on the active tiles: non-finite water, flow or
-/// pressure throws RuntimeError naming the iteration, the quantity that went bad first
-/// (acceptance, incoming water, f_c, water, f_a, pressure, porosity, flow) and its first voxel.
+/// Step 8: Σ water (the order-free sum of the tiles' `tileWater`: there is no water outside the
+/// active tiles) and `state.channelVoxels`, with the finite check: water anywhere (a non-finite
+/// value makes its tile's sum bad), flow and pressure where something worked this iteration (the
+/// work masks of the tiles near a sender; nothing else changed flow, and these are the pressures
+/// the water reads). A failure throws RuntimeError naming the iteration, the quantity that went
+/// bad first (acceptance, incoming water, f_c, water, f_a, pressure, porosity, flow) and its first
+/// voxel on the active tiles.
 std::pair<double, long> waterAndChannels(const Domain& domain, const Stage2State& state, const Grid3<double>& pressure,
                                          int iteration);
 

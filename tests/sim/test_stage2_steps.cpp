@@ -1,6 +1,7 @@
 // The steps of one stage-2 iteration (sim/stage2_steps.h), each on a grid of a few voxels against
 // numbers computed by hand from Listing 1 and Eq. 1–2 of the paper.
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -346,6 +347,7 @@ TEST(Stage2Steps, BookkeepingCountsAndRefusesNonFiniteWater) {
     EXPECT_DOUBLE_EQ(stored, 0.1 + 0.2 + 0.3);
     EXPECT_EQ(channels, 1);
     st.water[2] = std::nan("");
+    st.recountWater();  // a hand-set value: the steps keep the tiles' sums, a hand edit recounts them
     try {
         waterAndChannels(d, st, P, 7);
         FAIL();
@@ -355,6 +357,21 @@ TEST(Stage2Steps, BookkeepingCountsAndRefusesNonFiniteWater) {
         EXPECT_NE(m.find("iteration 7"), std::string::npos) << m;
         EXPECT_NE(m.find("water became non-finite"), std::string::npos) << m;
         EXPECT_NE(m.find("(2, 0, 0)"), std::string::npos) << m;
+    }
+    // Flow is checked where something worked this iteration (the work masks near a sender).
+    st.water[2] = 0.3;
+    st.recountWater();
+    d.flow[0] = std::numeric_limits<float>::infinity();
+    EXPECT_NO_THROW(waterAndChannels(d, st, P, 8));  // nothing worked: the flow is as it was
+    st.ref(st.fc, 0) = 0;                            // the tile works (its whole mask)
+    try {
+        waterAndChannels(d, st, P, 8);
+        FAIL();
+    } catch (const RuntimeError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("iteration 8"), std::string::npos) << m;
+        EXPECT_NE(m.find("flow became non-finite"), std::string::npos) << m;
+        EXPECT_NE(m.find("(0, 0, 0)"), std::string::npos) << m;
     }
 }
 
