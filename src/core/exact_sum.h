@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace cavesim {
 
@@ -19,21 +20,19 @@ class ExactSum {
 public:
     /// The fixed-point value of one term (what `add` adds); `bad` is set for a term out of range.
     static __int128 fixed(double x, bool& bad) {
-        if (!(std::abs(x) < kLimit)) {  // NaN, infinite or too large
+        // Read from the bits: |x| = mant · 2^(e − 1075) for a normal number (e the biased exponent).
+        std::uint64_t bits;
+        std::memcpy(&bits, &x, sizeof bits);
+        const int e = int((bits >> 52) & 0x7ff);
+        if (e >= 1023 + 30) {  // |x| ≥ 2^30, infinite or NaN
             bad = true;
             return 0;
         }
-        if (x == 0) return 0;
-        int e = 0;
-        const double m = std::frexp(std::abs(x), &e);               // |x| = m · 2^e, m in [0.5, 1)
-        const std::int64_t mant = std::int64_t(std::ldexp(m, 53));  // exact: 53 bits
-        const int shift = e - 53 + kFraction;                       // |x| · 2^96 = mant · 2^shift
-        __int128 v;
-        if (shift >= 0)
-            v = __int128(mant) << shift;
-        else
-            v = shift > -64 ? __int128(mant >> -shift) : 0;  // truncated toward 0 (then signed below)
-        return x < 0 ? -v : v;
+        const int shift = e - 1075 + kFraction;  // |x| · 2^96 = mant · 2^shift
+        if (shift <= -53) return 0;              // below 2^-96 (and every subnormal, and zero)
+        const std::int64_t mant = std::int64_t((bits & ((std::uint64_t(1) << 52) - 1)) | (std::uint64_t(1) << 52));
+        const __int128 v = shift >= 0 ? __int128(mant) << shift : __int128(mant >> -shift);  // toward 0
+        return (bits >> 63) ? -v : v;
     }
 
     void add(double x) { sum_ += fixed(x, bad_); }
@@ -58,7 +57,6 @@ public:
 
 private:
     static constexpr int kFraction = 96;
-    static constexpr double kLimit = 1073741824.0;  // 2^30
     __int128 sum_ = 0;
     bool bad_ = false;
 };

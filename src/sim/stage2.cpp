@@ -193,9 +193,12 @@ void forEachActiveInVoxelOrder(const Stage2State& st, bool onlyNearSenders, Fn&&
 
 /// Σ over the 26 neighbours u of the voxel at tile-local (li, lj, lk) (linear index v) inside the
 /// grid of term(slot, u, poolOf(u)), in paired order (−x, +x, then x = 0 per (dj, dk) group).
-/// Out-of-grid neighbours contribute nothing.
+/// Out-of-grid neighbours contribute nothing. With `senders` (the tile's sender mask), a term must
+/// be +0 at every neighbour that does not send this iteration: groups of three such neighbours
+/// inside the tile are skipped (adding +0 to a sum of non-negative terms changes no bit).
 template <typename Term>
-inline double pairedSum(const Dims& d, const TileCtx& c, int li, int lj, int lk, std::size_t v, Term&& term) {
+inline double pairedSum(const Dims& d, const TileCtx& c, int li, int lj, int lk, std::size_t v, Term&& term,
+                        const TileMask* senders = nullptr) {
     const int i = c.i0 + li, j = c.j0 + lj, k = c.k0 + lk;
     const std::ptrdiff_t sy = d.nx, sz = std::ptrdiff_t(d.nx) * d.ny;
     double total = 0;
@@ -206,6 +209,10 @@ inline double pairedSum(const Dims& d, const TileCtx& c, int li, int lj, int lk,
         const std::int64_t p = std::int64_t(c.base) + li + 8 * (lj + 8 * lk);
         for (int g = 0; g < 9; ++g) {
             const int dj = g % 3 - 1, dk = g / 3 - 1;
+            if (senders && !(((*senders)[std::size_t(lj + dj + 8 * (lk + dk))] >> (li - 1)) & 7u)) {
+                s += g == 4 ? 2 : 3;  // no sender among the group's three voxels: every term is +0
+                continue;
+            }
             const std::size_t at = std::size_t(std::ptrdiff_t(v) + dj * sy + dk * sz);
             const std::int64_t q = p + 8 * dj + 64 * dk;
             const double lo = term(s, at - 1, q - 1);
@@ -635,16 +642,21 @@ void computeAcceptance(const Domain& dom, const Grid3<double>& P, TransportWeigh
             st.accept[p] = 1;
         });
         if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        const TileMask& senders = st.senderMask[c.slot];
         forEachMasked(d, c, work, [&](std::size_t u, std::size_t p, int li, int lj, int lk) {
             const double pu = P[u];
             const double fr = double(dom.porosity[u]) - st.water[u];
             // The offer reaching u from its neighbour v, recomputed from v's norm and scale.
-            const double in = pairedSum(d, c, li, lj, lk, u, [&](int sl, std::size_t v, std::int64_t q) {
-                if (q < 0) return 0.0;
-                const double nv = st.norm[std::size_t(q)];
-                if (!(nv > 0)) return 0.0;
-                return offerValue(P[v], nv, st.scale[std::size_t(q)], pu, fr, invLength[std::size_t(sl)], proportional);
-            });
+            const double in = pairedSum(
+                d, c, li, lj, lk, u,
+                [&](int sl, std::size_t v, std::int64_t q) {
+                    if (q < 0) return 0.0;
+                    const double nv = st.norm[std::size_t(q)];
+                    if (!(nv > 0)) return 0.0;
+                    return offerValue(P[v], nv, st.scale[std::size_t(q)], pu, fr, invLength[std::size_t(sl)],
+                                      proportional);
+                },
+                &senders);  // a voxel that does not send (norm 0) offers nothing
             st.incoming[p] = in;
             const double freeCap = (dom.flags[u] & kSink) ? in : fr;
             // Round-off in moveWater may leave a voxel an ulp over full (freeCap < 0); nobody
@@ -726,20 +738,28 @@ void blendFlow(const Domain& dom, const Grid3<double>& P, FlowBlending blending,
                 st.upShare[p] = up > 0 ? st.fc[p] / up : 0.0;
             });
         });
+    // Only senders have f_c (and a split share) above 0: the groups without one are skipped.
     forEachTile(st, [&](const TileCtx& c) {
         if (!st.nearSender[c.slot]) return;  // no sender in or beside this tile: nothing to do
+        const TileMask& senders = st.senderMask[c.slot];
         forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double pv = P[v];
             if (split) {
-                st.fa[p] = pairedSum(d, c, li, lj, lk, v, [&](int, std::size_t u, std::int64_t q) {
-                    return q >= 0 && P[u] < pv ? st.upShare[std::size_t(q)] : 0.0;
-                });
+                st.fa[p] = pairedSum(
+                    d, c, li, lj, lk, v,
+                    [&](int, std::size_t u, std::int64_t q) {
+                        return q >= 0 && P[u] < pv ? st.upShare[std::size_t(q)] : 0.0;
+                    },
+                    &senders);
             } else {
                 double strongest = 0;  // max is order-free: mirror symmetry and determinism hold
-                pairedSum(d, c, li, lj, lk, v, [&](int, std::size_t u, std::int64_t q) {
-                    if (q >= 0 && P[u] < pv) strongest = std::max(strongest, st.fc[std::size_t(q)]);
-                    return 0.0;
-                });
+                pairedSum(
+                    d, c, li, lj, lk, v,
+                    [&](int, std::size_t u, std::int64_t q) {
+                        if (q >= 0 && P[u] < pv) strongest = std::max(strongest, st.fc[std::size_t(q)]);
+                        return 0.0;
+                    },
+                    &senders);
                 st.fa[p] = strongest;
             }
         });
