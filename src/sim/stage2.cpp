@@ -586,28 +586,49 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
     // The voxels that can receive, send, flow or erode this iteration: the senders and their 26
     // neighbours (the sender masks dilated by one voxel, across tile borders).
     const std::size_t nSlots = st.activeTiles.size();
+    // Tiles with a sender: a tile none of whose 27 neighbours (itself included) has one rests.
+    std::vector<std::uint8_t> sends(nSlots, 0);
+    for (std::size_t sl = 0; sl < nSlots; ++sl)
+        for (std::uint8_t b : st.senderMask[sl]) sends[sl] |= b;
     tbb::parallel_for(std::size_t(0), nSlots, [&](std::size_t sl) {
-        const TileCtx c = tileCtx(st, sl);
         const auto& nb = st.neighbourBase[sl];
-        const auto maskOf = [&](int dx, int dy, int dz, int row) -> unsigned {
-            const std::int64_t b = nb[std::size_t((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1))];
+        if (std::none_of(nb.begin(), nb.end(),
+                         [&](std::int64_t b) { return b >= 0 && sends[std::size_t(b) / kTileVoxels]; })) {
+            st.workMask[sl].fill(0);
+            st.nearSender[sl] = 0;
+            return;
+        }
+        const TileCtx c = tileCtx(st, sl);
+        // The sender rows around the tile, one voxel of halo on every side: row (a, b) for local
+        // y = a − 1 and z = b − 1, as 10 bits for local x = −1 … 8 (bit x + 1).
+        const auto rowOf = [&](int dx, int ty, int tz, int row) -> unsigned {
+            const std::int64_t b = nb[std::size_t((dx + 1) + 3 * (ty + 1) + 9 * (tz + 1))];
             return b < 0 ? 0u : st.senderMask[std::size_t(b) / kTileVoxels][std::size_t(row)];
         };
+        std::array<std::array<unsigned, 10>, 10> halo;
+        for (int b = 0; b < 10; ++b)
+            for (int a = 0; a < 10; ++a) {
+                const int y = a - 1, z = b - 1;
+                const int ty = y >> 3, tz = z >> 3, row = (y & 7) + 8 * (z & 7);
+                halo[std::size_t(b)][std::size_t(a)] =
+                    (rowOf(-1, ty, tz, row) >> 7) | (rowOf(0, ty, tz, row) << 1) | ((rowOf(1, ty, tz, row) & 1u) << 9);
+            }
+        // Dilated in y, then z, then x: a voxel works when a sender lies within one voxel.
+        std::array<std::array<unsigned, 8>, 10> alongY;
+        for (std::size_t b = 0; b < 10; ++b)
+            for (std::size_t lj = 0; lj < 8; ++lj) alongY[b][lj] = halo[b][lj] | halo[b][lj + 1] | halo[b][lj + 2];
         TileMask& work = st.workMask[sl];
         bool any = false;
         const unsigned inside = c.ni >= 8 ? 0xffu : (1u << c.ni) - 1u;
         for (int r = 0; r < 64; ++r) {
             const int lj = r & 7, lk = r >> 3;
             unsigned m = 0;
-            if (lj < c.nj && lk < c.nk)
-                for (int dk = -1; dk <= 1; ++dk)
-                    for (int dj = -1; dj <= 1; ++dj) {
-                        const int a = lj + dj, b = lk + dk;
-                        const int ty = a >> 3, tz = b >> 3, row = (a & 7) + 8 * (b & 7);
-                        const unsigned mc = maskOf(0, ty, tz, row);
-                        m |=
-                            mc | (mc << 1) | (mc >> 1) | (maskOf(-1, ty, tz, row) >> 7) | (maskOf(1, ty, tz, row) << 7);
-                    }
+            if (lj < c.nj && lk < c.nk) {
+                const unsigned e = alongY[std::size_t(lk)][std::size_t(lj)] |
+                                   alongY[std::size_t(lk + 1)][std::size_t(lj)] |
+                                   alongY[std::size_t(lk + 2)][std::size_t(lj)];
+                m = (e | (e << 1) | (e >> 1)) >> 1;  // bit li: senders at x = li − 1, li, li + 1
+            }
             work[std::size_t(r)] = std::uint8_t(m & inside);
             any = any || work[std::size_t(r)];
         }
