@@ -4,10 +4,10 @@
 /// partial sums kept and updated by differences) gives the same bits.
 ///
 /// A sum of doubles taken in another order rounds differently; a fixed-point sum does not. Terms
-/// whose magnitude is below 2⁻⁹⁶ (1.3·10⁻²⁹) count as 0 (their sign kept), which is far below the
-/// round-off of any total taken in double precision. Terms must be finite and below 2³⁰ in
-/// magnitude, totals below 2³¹: anything else marks the sum `bad` and its value is NaN (the caller
-/// reports it as a non-finite quantity).
+/// whose magnitude is below 2⁻⁹⁶ (1.3·10⁻²⁹) count as 0, which is far below the round-off of any
+/// total taken in double precision. Terms must be finite and below 2³⁰ in magnitude, and every
+/// partial total below 2³¹: a term out of range or a total that would overflow marks the sum `bad`,
+/// and its value is NaN (the caller reports it as a non-finite quantity).
 #pragma once
 
 #include <cmath>
@@ -35,19 +35,19 @@ public:
         return (bits >> 63) ? -v : v;
     }
 
-    void add(double x) { sum_ += fixed(x, bad_); }
+    void add(double x) { accumulate(fixed(x, bad_)); }
     /// Adds the change from `before` to `after` of one term of the sum.
     void replace(double before, double after) {
-        sum_ += fixed(after, bad_);
-        sum_ -= fixed(before, bad_);
+        accumulate(fixed(after, bad_));
+        accumulate(-fixed(before, bad_));
     }
     ExactSum& operator+=(const ExactSum& o) {
-        sum_ += o.sum_;
+        accumulate(o.sum_);
         bad_ = bad_ || o.bad_;
         return *this;
     }
     ExactSum& operator-=(const ExactSum& o) {
-        sum_ -= o.sum_;
+        accumulate(-o.sum_);
         bad_ = bad_ || o.bad_;
         return *this;
     }
@@ -57,6 +57,9 @@ public:
 
 private:
     static constexpr int kFraction = 96;
+    void accumulate(__int128 v) {
+        if (__builtin_add_overflow(sum_, v, &sum_)) bad_ = true;  // a total of 2³¹ or more
+    }
     __int128 sum_ = 0;
     bool bad_ = false;
 };

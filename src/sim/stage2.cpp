@@ -1330,6 +1330,15 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     res.activeTiles = long(st.activeTiles.size());
     res.tiles = long(st.tileSlot.size());
     publish();
+    // The iterations check the pressure where the water reads it; the settled field is checked
+    // whole once, so a non-finite value beyond the water is reported too.
+    for (std::size_t v = 0; v < n; ++v)
+        if (!std::isfinite(pressure.value()[v])) {
+            const Index3 p = d.coord(v);
+            throw RuntimeError("stage 2: pressure became non-finite (" + std::to_string(pressure.value()[v]) +
+                               ") at voxel (" + std::to_string(p.i) + ", " + std::to_string(p.j) + ", " +
+                               std::to_string(p.k) + ")");
+        }
     const double net = stored - (res.totalInjected - res.totalDrained);
     res.waterBalanceRelError = res.totalInjected > 0 ? std::abs(net) / res.totalInjected : 0.0;
     if (!(res.waterBalanceRelError < 1e-6)) {

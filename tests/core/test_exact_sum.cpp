@@ -80,7 +80,13 @@ TEST(ExactSum, NonFiniteOrHugeTermsMakeTheSumNaN) {
         t += s;
         EXPECT_TRUE(std::isnan(t.value()));
     }
-    // Terms below 2^-96 count as 0; the largest allowed term is exact.
+    // A total that would reach 2^31 overflows the fixed point: bad, never a wrapped number.
+    ExactSum big;
+    for (int i = 0; i < 3; ++i) big.add(std::nextafter(std::ldexp(1.0, 30), 0.0));
+    EXPECT_TRUE(big.bad());
+    EXPECT_TRUE(std::isnan(big.value()));
+    // Terms below 2^-96 count as 0 (whatever their sign); the largest allowed term is exact.
+    EXPECT_EQ(sumOf({-std::ldexp(1.0, -97)}), 0.0);
     EXPECT_EQ(sumOf({std::ldexp(1.0, -97)}), 0.0);
     EXPECT_EQ(sumOf({std::ldexp(1.0, -96)}), std::ldexp(1.0, -96));
     EXPECT_EQ(sumOf({std::nextafter(std::ldexp(1.0, 30), 0.0)}), std::nextafter(std::ldexp(1.0, 30), 0.0));
