@@ -340,9 +340,14 @@ void Stage2State::activateTile(std::uint32_t tile) {
     senderMask.push_back(TileMask{});
     workMask.push_back(TileMask{});
     previousMask.push_back(TileMask{});
-    ExactSum sum;  // a tile is activated before water reaches it, but a hand-made state may hold some
-    forEachVoxel(dims, tileCtx(*this, activeTiles.size() - 1),
-                 [&](std::size_t v, std::size_t, int, int, int) { sum.add(water[v]); });
+    // A tile is activated before water reaches it, but a hand-made state may hold some. (Not
+    // through tileCtx: the neighbour bases of the new slot exist only after refreshTiles.)
+    ExactSum sum;
+    const Index3 t = tileCoord(*this, tile);
+    for (int k = t.k * kTileSize; k < std::min(dims.nz, (t.k + 1) * kTileSize); ++k)
+        for (int j = t.j * kTileSize; j < std::min(dims.ny, (t.j + 1) * kTileSize); ++j)
+            for (int i = t.i * kTileSize; i < std::min(dims.nx, (t.i + 1) * kTileSize); ++i)
+                sum.add(water[dims.index(i, j, k)]);
     tileWater.push_back(sum);
     const std::size_t n = activeTiles.size() * kTileVoxels;
     for (std::vector<double>* f : {&norm, &scale, &incoming, &fc, &fa, &upShare, &drainedHere, &erodedHere})
