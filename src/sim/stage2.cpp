@@ -148,49 +148,6 @@ inline void forEachMasked(const Dims& d, const TileCtx& c, const TileMask& mask,
     }
 }
 
-/// Calls fn(v, pool) for every voxel of the active tiles (with `onlyNearSenders`, of the tiles
-/// near a sender this iteration) in increasing voxel index, one thread:
-/// sums taken this way equal the sums over the whole grid in voxel order bit for bit (the voxels
-/// left out contribute exact zeros).
-template <typename Fn>
-void forEachActiveInVoxelOrder(const Stage2State& st, bool onlyNearSenders, Fn&& fn) {
-    const Dims& d = st.dims;
-    // Plain pointers: GCC 12 otherwise warns of an impossible iteration count
-    // (-Waggressive-loop-optimizations) where `erode` and `moveWater` inline this loop.
-    const std::uint32_t* const order = st.slotsInOrder.data();
-    const std::size_t count = st.slotsInOrder.size();
-    const std::uint32_t* const tiles = st.activeTiles.data();
-    const std::uint32_t perRow = std::uint32_t(st.tilesX), perLayer = perRow * std::uint32_t(st.tilesY);
-    std::size_t a = 0;
-    while (a < count) {
-        // The active tiles of one tile layer tk (sorted: by tile row tj, then ti); voxel order
-        // visits each z-slice of the layer row by row.
-        const std::uint32_t layer = tiles[order[a]] / perLayer;
-        std::size_t b = a;
-        while (b < count && tiles[order[b]] / perLayer == layer) ++b;
-        const TileCtx first = tileCtx(st, order[a]);
-        for (int lk = 0; lk < first.nk; ++lk) {
-            std::size_t x = a;
-            while (x < b) {
-                const std::uint32_t row = tiles[order[x]] / perRow;
-                std::size_t y = x;
-                while (y < b && tiles[order[y]] / perRow == row) ++y;
-                const int nj = tileCtx(st, order[x]).nj;
-                for (int lj = 0; lj < nj; ++lj)
-                    for (const std::uint32_t *slot = order + x, *rowEnd = order + y; slot != rowEnd; ++slot) {
-                        if (onlyNearSenders && !st.nearSender[*slot]) continue;  // exact zeros there
-                        const TileCtx c = tileCtx(st, *slot);
-                        const std::size_t at = d.index(c.i0, c.j0 + lj, c.k0 + lk);
-                        const std::size_t prow = c.base + std::size_t(8 * (lj + 8 * lk));
-                        for (int li = 0; li < c.ni; ++li) fn(at + std::size_t(li), prow + std::size_t(li));
-                    }
-                x = y;
-            }
-        }
-        a = b;
-    }
-}
-
 /// Σ over the 26 neighbours u of the voxel at tile-local (li, lj, lk) (linear index v) inside the
 /// grid of term(slot, u, poolOf(u)), in paired order (−x, +x, then x = 0 per (dj, dk) group).
 /// Out-of-grid neighbours contribute nothing. With `senders` (the tile's sender mask), a term must
@@ -290,6 +247,22 @@ const std::array<Slot, 26>& slots() {
     return t;
 }
 
+namespace {
+
+/// The water of one tile's voxels (by tile id; needs no slot, so a tile being activated can ask).
+ExactSum waterOfTile(const Stage2State& st, std::uint32_t tile) {
+    const Dims& d = st.dims;
+    const Index3 t = tileCoord(st, tile);
+    ExactSum sum;
+    for (int k = t.k * kTileSize; k < std::min(d.nz, (t.k + 1) * kTileSize); ++k)
+        for (int j = t.j * kTileSize; j < std::min(d.ny, (t.j + 1) * kTileSize); ++j)
+            for (int i = t.i * kTileSize; i < std::min(d.nx, (t.i + 1) * kTileSize); ++i)
+                sum.add(st.water[d.index(i, j, k)]);
+    return sum;
+}
+
+}  // namespace
+
 Stage2State::Stage2State(const Dims& d)
     : dims(d),
       tilesX((d.nx + kTileSize - 1) / kTileSize),
@@ -340,15 +313,7 @@ void Stage2State::activateTile(std::uint32_t tile) {
     senderMask.push_back(TileMask{});
     workMask.push_back(TileMask{});
     previousMask.push_back(TileMask{});
-    // A tile is activated before water reaches it, but a hand-made state may hold some. (Not
-    // through tileCtx: the neighbour bases of the new slot exist only after refreshTiles.)
-    ExactSum sum;
-    const Index3 t = tileCoord(*this, tile);
-    for (int k = t.k * kTileSize; k < std::min(dims.nz, (t.k + 1) * kTileSize); ++k)
-        for (int j = t.j * kTileSize; j < std::min(dims.ny, (t.j + 1) * kTileSize); ++j)
-            for (int i = t.i * kTileSize; i < std::min(dims.nx, (t.i + 1) * kTileSize); ++i)
-                sum.add(water[dims.index(i, j, k)]);
-    tileWater.push_back(sum);
+    tileWater.push_back(waterOfTile(*this, tile));  // none yet, but a hand-made state may hold some
     const std::size_t n = activeTiles.size() * kTileVoxels;
     for (std::vector<double>* f : {&norm, &scale, &incoming, &fc, &fa, &upShare, &drainedHere, &erodedHere})
         f->resize(n, 0.0);
@@ -356,11 +321,8 @@ void Stage2State::activateTile(std::uint32_t tile) {
 }
 
 void Stage2State::recountWater() {
-    forEachTile(*this, [&](const TileCtx& c) {
-        ExactSum sum;
-        forEachVoxel(dims, c, [&](std::size_t v, std::size_t, int, int, int) { sum.add(water[v]); });
-        tileWater[c.slot] = sum;
-    });
+    tbb::parallel_for(std::size_t(0), activeTiles.size(),
+                      [&](std::size_t slot) { tileWater[slot] = waterOfTile(*this, activeTiles[slot]); });
 }
 
 void Stage2State::refreshTiles() {
@@ -370,10 +332,6 @@ void Stage2State::refreshTiles() {
             const std::int32_t slot = tile < 0 ? -1 : tileSlot[std::size_t(tile)];
             neighbourBase[s][n] = slot < 0 ? -1 : std::int64_t(slot) * std::int64_t(kTileVoxels);
         });
-    slotsInOrder.resize(activeTiles.size());
-    for (std::size_t s = 0; s < activeTiles.size(); ++s) slotsInOrder[s] = std::uint32_t(s);
-    std::sort(slotsInOrder.begin(), slotsInOrder.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return activeTiles[a] < activeTiles[b]; });
 }
 
 namespace {
@@ -932,10 +890,12 @@ std::pair<double, long> waterAndChannels(const Domain& dom, const Stage2State& s
                            ", " + std::to_string(p.k) + ")");
     };
     const auto check = [&](const char* name, auto&& value) {
-        forEachActiveInVoxelOrder(st, false, [&](std::size_t v, std::size_t p) {
-            const double x = value(v, p);
-            if (!std::isfinite(x)) fail(name, v, x);
-        });
+        std::size_t first = st.water.size();  // the lowest voxel index where `value` is not finite
+        for (std::size_t slot = 0; slot < st.activeTiles.size(); ++slot)
+            forEachVoxel(st.dims, tileCtx(st, slot), [&](std::size_t v, std::size_t p, int, int, int) {
+                if (v < first && !std::isfinite(value(v, p))) first = v;
+            });
+        if (first < st.water.size()) fail(name, first, value(first, std::size_t(st.poolIndex(first))));
     };
     check("accept", [&](std::size_t, std::size_t p) { return st.accept[p]; });
     check("incoming water", [&](std::size_t, std::size_t p) { return st.incoming[p]; });
@@ -1169,9 +1129,17 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
         const Stopwatch tp;
         pressure.settle(rate);  // the sweeps that waited beyond the water
         res.pressureSeconds += tp.seconds();
+        // The iterations check the pressure where the water reads it; the settled field is checked
+        // whole here, so a non-finite value beyond the water is reported too.
         for (std::size_t v = 0; v < n; ++v) {
             dom.water[v] = float(st.water[v]);
-            dom.pressure[v] = float(pressure.value()[v]);
+            const double pv = pressure.value()[v];
+            if (!std::isfinite(pv)) {
+                const Index3 p = d.coord(v);
+                throw RuntimeError("stage 2: pressure became non-finite (" + std::to_string(pv) + ") at voxel (" +
+                                   std::to_string(p.i) + ", " + std::to_string(p.j) + ", " + std::to_string(p.k) + ")");
+            }
+            dom.pressure[v] = float(pv);
         }
     };
 
@@ -1335,15 +1303,6 @@ Stage2Result runStage2(Domain& dom, const Stage2Options& g, const ProgressFn& pr
     res.activeTiles = long(st.activeTiles.size());
     res.tiles = long(st.tileSlot.size());
     publish();
-    // The iterations check the pressure where the water reads it; the settled field is checked
-    // whole once, so a non-finite value beyond the water is reported too.
-    for (std::size_t v = 0; v < n; ++v)
-        if (!std::isfinite(pressure.value()[v])) {
-            const Index3 p = d.coord(v);
-            throw RuntimeError("stage 2: pressure became non-finite (" + std::to_string(pressure.value()[v]) +
-                               ") at voxel (" + std::to_string(p.i) + ", " + std::to_string(p.j) + ", " +
-                               std::to_string(p.k) + ")");
-        }
     const double net = stored - (res.totalInjected - res.totalDrained);
     res.waterBalanceRelError = res.totalInjected > 0 ? std::abs(net) / res.totalInjected : 0.0;
     if (!(res.waterBalanceRelError < 1e-6)) {

@@ -45,8 +45,8 @@ struct Carry {
     Stage2State state;
 };
 
-/// Appends the Stage2State's bytes (everything but `neighbourBase` and `slotsInOrder`, which
-/// `refreshTiles` derives from the active tiles).
+/// Appends the Stage2State's bytes (everything but `neighbourBase`, which `refreshTiles` derives
+/// from the active tiles, and `tileWater`, which `recountWater` derives from the water).
 void saveState(ByteWriter& out, const Stage2State& state);
 
 /// Replaces `state` (made for the grid's dims) by what saveState wrote; checks every count against

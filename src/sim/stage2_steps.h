@@ -66,7 +66,6 @@ struct Stage2State {
     std::vector<std::int32_t> tileSlot;      ///< per tile of the grid: its slot, −1 when inactive
     std::vector<std::uint32_t> activeTiles;  ///< slot → tile id (ti + tilesX·(tj + tilesY·tk)), in activation order
     std::vector<std::uint8_t> tileWet;       ///< per tile of the grid: has held water (its neighbours are active)
-    std::vector<std::uint32_t> slotsInOrder;  ///< active slots sorted by tile id (for sums in voxel order)
     /// per slot: pool base (slot · 512) of the 27 tiles around it, index (dx+1) + 3(dy+1) + 9(dz+1); −1 inactive
     std::vector<std::array<std::int64_t, 27>> neighbourBase;
     std::vector<std::uint8_t> wetNow;        ///< per slot: holds water after the last moveWater
@@ -102,7 +101,7 @@ struct Stage2State {
     double& ref(std::vector<double>& field, std::size_t v);
     /// Activates a tile (by tile id): transients with their resting values (accept 1, the rest 0).
     void activateTile(std::uint32_t tile);
-    /// Updates `neighbourBase` and `slotsInOrder` after tiles were activated.
+    /// Updates `neighbourBase` after tiles were activated.
     void refreshTiles();
     /// Sums `tileWater` again from `water` (after water was set by hand, or restored).
     void recountWater();

@@ -1,7 +1,9 @@
 // The steps of one stage-2 iteration (sim/stage2_steps.h), each on a grid of a few voxels against
 // numbers computed by hand from Listing 1 and Eq. 1–2 of the paper.
 #include <cmath>
+#include <initializer_list>
 #include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -333,6 +335,22 @@ TEST(Stage2Steps, PressureUpdateIsTheAvalancheRule) {
     EXPECT_EQ(updatePressure(P, rate, {}), 0u);
 }
 
+namespace {
+
+/// waterAndChannels throws a RuntimeError whose message holds every one of `parts`.
+void expectBookkeepingRefuses(const Domain& d, const Stage2State& st, const Grid3<double>& P, int iteration,
+                              std::initializer_list<const char*> parts) {
+    try {
+        waterAndChannels(d, st, P, iteration);
+        FAIL() << "no error";
+    } catch (const RuntimeError& e) {
+        const std::string m = e.what();
+        for (const char* part : parts) EXPECT_NE(m.find(part), std::string::npos) << part << " in " << m;
+    }
+}
+
+}  // namespace
+
 TEST(Stage2Steps, BookkeepingCountsAndRefusesNonFiniteWater) {
     Domain d = emptyDomain(Dims{3, 1, 1}, 1.0, 0.05f);
     d.flags[1] |= kChannel;
@@ -348,31 +366,14 @@ TEST(Stage2Steps, BookkeepingCountsAndRefusesNonFiniteWater) {
     EXPECT_EQ(channels, 1);
     st.water[2] = std::nan("");
     st.recountWater();  // a hand-set value: the steps keep the tiles' sums, a hand edit recounts them
-    try {
-        waterAndChannels(d, st, P, 7);
-        FAIL();
-    } catch (const RuntimeError& e) {
-        const std::string m = e.what();
-        EXPECT_NE(m.find("stage 2"), std::string::npos) << m;
-        EXPECT_NE(m.find("iteration 7"), std::string::npos) << m;
-        EXPECT_NE(m.find("water became non-finite"), std::string::npos) << m;
-        EXPECT_NE(m.find("(2, 0, 0)"), std::string::npos) << m;
-    }
+    expectBookkeepingRefuses(d, st, P, 7, {"stage 2", "iteration 7", "water became non-finite", "(2, 0, 0)"});
     // Flow is checked where something worked this iteration (the work masks near a sender).
     st.water[2] = 0.3;
     st.recountWater();
     d.flow[0] = std::numeric_limits<float>::infinity();
     EXPECT_NO_THROW(waterAndChannels(d, st, P, 8));  // nothing worked: the flow is as it was
     st.ref(st.fc, 0) = 0;                            // the tile works (its whole mask)
-    try {
-        waterAndChannels(d, st, P, 8);
-        FAIL();
-    } catch (const RuntimeError& e) {
-        const std::string m = e.what();
-        EXPECT_NE(m.find("iteration 8"), std::string::npos) << m;
-        EXPECT_NE(m.find("flow became non-finite"), std::string::npos) << m;
-        EXPECT_NE(m.find("(0, 0, 0)"), std::string::npos) << m;
-    }
+    expectBookkeepingRefuses(d, st, P, 8, {"iteration 8", "flow became non-finite", "(0, 0, 0)"});
 }
 
 TEST(Stage2Steps, SourcesConnectThroughChannelVoxelsOnly) {
