@@ -261,6 +261,28 @@ ExactSum waterOfTile(const Stage2State& st, std::uint32_t tile) {
     return sum;
 }
 
+/// The voxels of a tile (by tile id) that hold at least kMinFlowingWater.
+TileMask flowingOfTile(const Stage2State& st, std::uint32_t tile) {
+    const Dims& d = st.dims;
+    const Index3 t = tileCoord(st, tile);
+    TileMask mask{};
+    for (int k = t.k * kTileSize; k < std::min(d.nz, (t.k + 1) * kTileSize); ++k)
+        for (int j = t.j * kTileSize; j < std::min(d.ny, (t.j + 1) * kTileSize); ++j)
+            for (int i = t.i * kTileSize; i < std::min(d.nx, (t.i + 1) * kTileSize); ++i)
+                if (st.water[d.index(i, j, k)] >= kMinFlowingWater)
+                    mask[std::size_t((j - t.j * kTileSize) + 8 * (k - t.k * kTileSize))] |=
+                        std::uint8_t(1u << (i - t.i * kTileSize));
+    return mask;
+}
+
+/// Sets or clears voxel v's bit in its tile's flowing mask (its tile is active at `slot`).
+inline void markFlowing(Stage2State& st, std::size_t slot, std::size_t v) {
+    const Index3 p = st.dims.coord(v);
+    std::uint8_t& row = st.flowingMask[slot][std::size_t((p.j % kTileSize) + 8 * (p.k % kTileSize))];
+    const std::uint8_t bit = std::uint8_t(1u << (p.i % kTileSize));
+    row = st.water[v] >= kMinFlowingWater ? std::uint8_t(row | bit) : std::uint8_t(row & ~bit);
+}
+
 }  // namespace
 
 Stage2State::Stage2State(const Dims& d)
@@ -314,6 +336,7 @@ void Stage2State::activateTile(std::uint32_t tile) {
     workMask.push_back(TileMask{});
     previousMask.push_back(TileMask{});
     tileWater.push_back(waterOfTile(*this, tile));  // none yet, but a hand-made state may hold some
+    flowingMask.push_back(flowingOfTile(*this, tile));
     const std::size_t n = activeTiles.size() * kTileVoxels;
     for (std::vector<double>* f : {&norm, &scale, &incoming, &fc, &fa, &upShare, &drainedHere, &erodedHere})
         f->resize(n, 0.0);
@@ -321,8 +344,12 @@ void Stage2State::activateTile(std::uint32_t tile) {
 }
 
 void Stage2State::recountWater() {
-    tbb::parallel_for(std::size_t(0), activeTiles.size(),
-                      [&](std::size_t slot) { tileWater[slot] = waterOfTile(*this, activeTiles[slot]); });
+    tileWater.resize(activeTiles.size());
+    flowingMask.resize(activeTiles.size());
+    tbb::parallel_for(std::size_t(0), activeTiles.size(), [&](std::size_t slot) {
+        tileWater[slot] = waterOfTile(*this, activeTiles[slot]);
+        flowingMask[slot] = flowingOfTile(*this, activeTiles[slot]);
+    });
 }
 
 void Stage2State::refreshTiles() {
@@ -500,7 +527,9 @@ double refillSources(const Domain& dom, const std::vector<Refill>& levels, Stage
             st.water[v] = target;
         }
         if (st.water[v] > 0) grown = wetTile(st, tileOf(st, v)) || grown;
-        st.waterChanged[std::size_t(st.tileSlot[tileOf(st, v)])] = 1;
+        const std::size_t slot = std::size_t(st.tileSlot[tileOf(st, v)]);
+        st.waterChanged[slot] = 1;
+        markFlowing(st, slot, v);
     }
     if (grown) st.refreshTiles();
     return injected;
@@ -517,8 +546,11 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
         if (!st.waterChanged[c.slot]) return;
         st.waterChanged[c.slot] = 0;
         TileMask& senders = st.senderMask[c.slot];
+        // Only senders have a norm and a scale: the last ones go back to rest, then the voxels
+        // holding water are weighed (a dry voxel sends nothing).
+        forEachMasked(d, c, senders, [&](std::size_t, std::size_t p, int, int, int) { st.norm[p] = st.scale[p] = 0; });
         senders.fill(0);
-        forEachVoxel(d, c, [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
+        forEachMasked(d, c, st.flowingMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double w = water[v];
             st.norm[p] = 0;
             st.scale[p] = 0;
@@ -682,7 +714,8 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
         ExactSum& tileWater = st.tileWater[c.slot];
         ExactSum& moved = movedIn[c.slot];
         ExactSum& drained = drainedIn[c.slot];
-        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int, int, int) {
+        TileMask& flowing = st.flowingMask[c.slot];
+        forEachMasked(d, c, st.workMask[c.slot], [&](std::size_t v, std::size_t p, int li, int lj, int lk) {
             const double before = st.water[v];
             st.water[v] += st.accept[p] * st.incoming[p] - st.fc[p];
             st.drainedHere[p] = 0;
@@ -693,6 +726,9 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
             }
             moved.add(st.fc[p]);
             tileWater.replace(before, st.water[v]);
+            std::uint8_t& row = flowing[std::size_t(lj + 8 * lk)];
+            const std::uint8_t bit = std::uint8_t(1u << li);
+            row = st.water[v] >= kMinFlowingWater ? std::uint8_t(row | bit) : std::uint8_t(row & ~bit);
             wet = wet || st.water[v] > 0;
         });
         st.wetNow[c.slot] = wet ? 1 : 0;

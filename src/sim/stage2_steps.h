@@ -75,6 +75,9 @@ struct Stage2State {
     std::vector<TileMask> senderMask;        ///< per slot: voxels that send this iteration
     std::vector<TileMask> workMask;          ///< per slot: senders and their 26 neighbours (only these do work)
     std::vector<TileMask> previousMask;      ///< per slot: workMask of the last iteration
+    /// per slot: the voxels holding at least 1e-9 of water (sinks included), the only ones that can
+    /// send; kept up to date wherever water changes, so finding the senders reads no dry voxel
+    std::vector<TileMask> flowingMask;
     /// per slot: the water of its voxels, an order-free sum kept up to date by every step that
     /// changes water (refillSources, moveWater), so the total needs no walk over the tiles
     std::vector<ExactSum> tileWater;
@@ -103,7 +106,8 @@ struct Stage2State {
     void activateTile(std::uint32_t tile);
     /// Updates `neighbourBase` after tiles were activated.
     void refreshTiles();
-    /// Sums `tileWater` again from `water` (after water was set by hand, or restored).
+    /// Sums `tileWater` and marks `flowingMask` again from `water` (after water was set by hand, or
+    /// restored).
     void recountWater();
 };
 

@@ -108,6 +108,34 @@ TEST(Stage2Steps, OffersFollowListing1) {
     EXPECT_DOUBLE_EQ(r.st.water[2], 0.1);
 }
 
+// Senders are sought only among the voxels holding water (Stage2State::flowingMask), which every
+// step that moves water keeps up to date: after two iterations the mask is what the water says, a
+// voxel that ran dry has stopped sending and a sink that drained is not marked.
+TEST(Stage2Steps, SendersAreFoundAmongTheWetVoxelsAsTheWaterMoves) {
+    Row3 r({0.5f, 0.5f, 0.5f, 1.f}, {0.4, 0.1, 0.0, 0.0}, {3, 2, 1, 0});
+    r.dom.flags[3] |= kSink;
+    const auto maskFromWater = [&] {
+        Stage2State copy = r.st;
+        copy.recountWater();
+        return copy.flowingMask;
+    };
+    for (int iteration = 0; iteration < 2; ++iteration) {
+        computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
+        r.accept();
+        r.move();
+        EXPECT_EQ(r.st.flowingMask, maskFromWater()) << "iteration " << iteration;
+    }
+    // By hand: 0.4 and 0.1 move one voxel on each iteration; the sink drains the 0.1.
+    EXPECT_EQ(r.st.water[0], 0.0);
+    EXPECT_EQ(r.st.water[1], 0.0);
+    EXPECT_DOUBLE_EQ(r.st.water[2], 0.4);
+    EXPECT_EQ(r.st.flowingMask[0][0], 0b0100);  // only voxel 2 holds water; 0 and 1 ran dry, 3 drained
+    computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
+    EXPECT_EQ(r.offer(1, +1), 0.0);  // a voxel that ran dry sends nothing: its last norm went back to rest
+    EXPECT_DOUBLE_EQ(r.offer(2, +1), 0.4);
+    EXPECT_EQ(r.st.senderMask[0][0], 0b0100);
+}
+
 // Two donors (P 2) offer 0.2 each to the voxel between them (P 0), which has 0.2 of free capacity:
 // it accepts half of every offer, so each donor sends 0.1. Water is conserved.
 TEST(Stage2Steps, OverOfferedReceiverAcceptsTheSameFractionOfEveryOffer) {
