@@ -249,38 +249,39 @@ const std::array<Slot, 26>& slots() {
 
 namespace {
 
-/// The water of one tile's voxels (by tile id; needs no slot, so a tile being activated can ask).
-ExactSum waterOfTile(const Stage2State& st, std::uint32_t tile) {
-    const Dims& d = st.dims;
-    const Index3 t = tileCoord(st, tile);
-    ExactSum sum;
-    for (int k = t.k * kTileSize; k < std::min(d.nz, (t.k + 1) * kTileSize); ++k)
-        for (int j = t.j * kTileSize; j < std::min(d.ny, (t.j + 1) * kTileSize); ++j)
-            for (int i = t.i * kTileSize; i < std::min(d.nx, (t.i + 1) * kTileSize); ++i)
-                sum.add(st.water[d.index(i, j, k)]);
-    return sum;
+/// Sets or clears the flowing bit of the tile-local voxel (li, lj, lk) from its water.
+inline void setFlowing(TileMask& mask, int li, int lj, int lk, double water) {
+    std::uint8_t& row = mask[std::size_t(lj + 8 * lk)];
+    const std::uint8_t bit = std::uint8_t(1u << li);
+    row = water >= kMinFlowingWater ? std::uint8_t(row | bit) : std::uint8_t(row & ~bit);
 }
 
-/// The voxels of a tile (by tile id) that hold at least kMinFlowingWater.
-TileMask flowingOfTile(const Stage2State& st, std::uint32_t tile) {
+/// What a tile's voxels hold, read from `water` (by tile id; needs no slot, so a tile being
+/// activated can ask): their water, an order-free sum, and the voxels holding at least
+/// kMinFlowingWater.
+struct TileContents {
+    ExactSum water;
+    TileMask flowing{};
+};
+TileContents contentsOfTile(const Stage2State& st, std::uint32_t tile) {
     const Dims& d = st.dims;
     const Index3 t = tileCoord(st, tile);
-    TileMask mask{};
-    for (int k = t.k * kTileSize; k < std::min(d.nz, (t.k + 1) * kTileSize); ++k)
-        for (int j = t.j * kTileSize; j < std::min(d.ny, (t.j + 1) * kTileSize); ++j)
-            for (int i = t.i * kTileSize; i < std::min(d.nx, (t.i + 1) * kTileSize); ++i)
-                if (st.water[d.index(i, j, k)] >= kMinFlowingWater)
-                    mask[std::size_t((j - t.j * kTileSize) + 8 * (k - t.k * kTileSize))] |=
-                        std::uint8_t(1u << (i - t.i * kTileSize));
-    return mask;
+    const int i0 = t.i * kTileSize, j0 = t.j * kTileSize, k0 = t.k * kTileSize;
+    TileContents out;
+    for (int k = k0; k < std::min(d.nz, k0 + kTileSize); ++k)
+        for (int j = j0; j < std::min(d.ny, j0 + kTileSize); ++j)
+            for (int i = i0; i < std::min(d.nx, i0 + kTileSize); ++i) {
+                const double w = st.water[d.index(i, j, k)];
+                out.water.add(w);
+                setFlowing(out.flowing, i - i0, j - j0, k - k0, w);
+            }
+    return out;
 }
 
-/// Sets or clears voxel v's bit in its tile's flowing mask (its tile is active at `slot`).
+/// Sets or clears voxel v's flowing bit (its tile is active at `slot`).
 inline void markFlowing(Stage2State& st, std::size_t slot, std::size_t v) {
     const Index3 p = st.dims.coord(v);
-    std::uint8_t& row = st.flowingMask[slot][std::size_t((p.j % kTileSize) + 8 * (p.k % kTileSize))];
-    const std::uint8_t bit = std::uint8_t(1u << (p.i % kTileSize));
-    row = st.water[v] >= kMinFlowingWater ? std::uint8_t(row | bit) : std::uint8_t(row & ~bit);
+    setFlowing(st.flowingMask[slot], p.i % kTileSize, p.j % kTileSize, p.k % kTileSize, st.water[v]);
 }
 
 }  // namespace
@@ -335,8 +336,9 @@ void Stage2State::activateTile(std::uint32_t tile) {
     senderMask.push_back(TileMask{});
     workMask.push_back(TileMask{});
     previousMask.push_back(TileMask{});
-    tileWater.push_back(waterOfTile(*this, tile));  // none yet, but a hand-made state may hold some
-    flowingMask.push_back(flowingOfTile(*this, tile));
+    TileContents held = contentsOfTile(*this, tile);  // none yet, but a hand-made state may hold some
+    tileWater.push_back(held.water);
+    flowingMask.push_back(held.flowing);
     const std::size_t n = activeTiles.size() * kTileVoxels;
     for (std::vector<double>* f : {&norm, &scale, &incoming, &fc, &fa, &upShare, &drainedHere, &erodedHere})
         f->resize(n, 0.0);
@@ -347,8 +349,9 @@ void Stage2State::recountWater() {
     tileWater.resize(activeTiles.size());
     flowingMask.resize(activeTiles.size());
     tbb::parallel_for(std::size_t(0), activeTiles.size(), [&](std::size_t slot) {
-        tileWater[slot] = waterOfTile(*this, activeTiles[slot]);
-        flowingMask[slot] = flowingOfTile(*this, activeTiles[slot]);
+        const TileContents held = contentsOfTile(*this, activeTiles[slot]);
+        tileWater[slot] = held.water;
+        flowingMask[slot] = held.flowing;
     });
 }
 
@@ -726,9 +729,7 @@ std::pair<double, double> moveWater(const Domain& dom, const Grid3<double>& P, T
             }
             moved.add(st.fc[p]);
             tileWater.replace(before, st.water[v]);
-            std::uint8_t& row = flowing[std::size_t(lj + 8 * lk)];
-            const std::uint8_t bit = std::uint8_t(1u << li);
-            row = st.water[v] >= kMinFlowingWater ? std::uint8_t(row | bit) : std::uint8_t(row & ~bit);
+            setFlowing(flowing, li, lj, lk, st.water[v]);
             wet = wet || st.water[v] > 0;
         });
         st.wetNow[c.slot] = wet ? 1 : 0;
@@ -884,14 +885,17 @@ double pressureNeeded(Stage2State& st, const Grid3<double>& pressure) {
 double pressureRead(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure) {
     // The next iteration's senders are the voxels holding at least kMinFlowingWater now (no sink)
     // and the sources (refilled first). Outside this iteration's work masks no voxel sent or
-    // received, so none holds that much: only the masks are walked. Stored values are at least
-    // the true ones, so their largest bounds the true pressure of every sender.
+    // received, so none holds that much: only the flowing voxels of the masks are walked. Stored
+    // values are at least the true ones, so their largest bounds the true pressure of every sender.
     std::vector<double> top(st.activeTiles.size(), 0.0);
     forEachTile(st, [&](const TileCtx& c) {
         if (!st.nearSender[c.slot]) return;
+        TileMask flowingWork;
+        for (std::size_t r = 0; r < 64; ++r)
+            flowingWork[r] = std::uint8_t(st.workMask[c.slot][r] & st.flowingMask[c.slot][r]);
         double m = 0;
-        forEachMasked(st.dims, c, st.workMask[c.slot], [&](std::size_t v, std::size_t, int, int, int) {
-            if (st.water[v] >= kMinFlowingWater && !(dom.flags[v] & kSink)) m = std::max(m, pressure[v]);
+        forEachMasked(st.dims, c, flowingWork, [&](std::size_t v, std::size_t, int, int, int) {
+            if (!(dom.flags[v] & kSink)) m = std::max(m, pressure[v]);
         });
         top[c.slot] = m;
     });

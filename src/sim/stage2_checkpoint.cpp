@@ -155,7 +155,6 @@ void restoreState(ByteReader& in, Stage2State& st) {
     st.channelVoxels = long(in.get<std::int64_t>("the channel count"));
     in.getBools(st.reached, "the reach of the sinks", voxels);
     st.refreshTiles();
-    st.tileWater.resize(slots);
     st.recountWater();
 }
 
