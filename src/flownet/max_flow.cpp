@@ -4,6 +4,8 @@
 #include "flownet/max_flow.h"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
 #include <cstdint>
 #include <functional>
 #include <iterator>
@@ -146,49 +148,65 @@ private:
     std::vector<long> distance_;
 };
 
-/// A min-heap of (distance, node) entries, 4-ary (children of i: 4i + 1 … 4i + 4; parent
-/// (i − 1) / 4), its storage open so that it is reused from one search to the next.
-struct QuadHeap {
-    using Entry = std::pair<double, NodeId>;
-    std::vector<Entry> entries;
+/// A monotone priority queue of (distance, node) entries for Dijkstra (a radix heap): every push
+/// is at least the last pop, distances are non-negative, and a non-negative double's bits order
+/// like its value, so the entries sit in 65 buckets by the highest bit in which their key differs
+/// from the last popped key. A pop takes bucket 0 (keys equal to the last) or else empties the
+/// lowest non-empty bucket into lower ones around its smallest key; each entry moves at most 64
+/// times and mostly far fewer, and no move touches more than one bucket's memory — unlike a
+/// binary heap of the whole front, whose sift-down walks a path of cache misses at every pop.
+/// Equal distances leave in an order other than by node, which changes no distance (Dijkstra's
+/// distances do not depend on the order of ties).
+struct RadixHeap {
+    using Entry = std::pair<std::uint64_t, NodeId>;
+    std::array<std::vector<Entry>, 65> bucket;
+    std::uint64_t last = 0;
+    std::size_t count = 0;
 
-    void push(const Entry& e) {
-        // Sift up from the new leaf.
-        entries.push_back(e);
-        Entry* const h = entries.data();
-        std::size_t i = entries.size() - 1;
-        while (i > 0) {
-            const std::size_t parent = (i - 1) / 4;
-            if (!(e < h[parent])) break;
-            h[i] = h[parent];
-            i = parent;
-        }
-        h[i] = e;
+    static std::uint64_t keyOf(double d) {
+        const double x = d + 0.0;  // −0 as +0
+        std::uint64_t k;
+        std::memcpy(&k, &x, sizeof k);
+        return k;
     }
+    static double valueOf(std::uint64_t k) {
+        double d;
+        std::memcpy(&d, &k, sizeof d);
+        return d;
+    }
+    std::size_t slot(std::uint64_t k) const { return k == last ? 0 : std::size_t(64 - __builtin_clzll(k ^ last)); }
 
-    /// Removes and returns the smallest entry (the heap is not empty).
-    Entry pop() {
-        // Sift the last entry down from the root.
-        const Entry top = entries.front();
-        const Entry last = entries.back();
-        entries.pop_back();
-        if (entries.empty()) return top;
-        Entry* const h = entries.data();
-        const std::size_t n = entries.size();
-        std::size_t i = 0;
-        for (;;) {
-            const std::size_t c0 = 4 * i + 1;
-            if (c0 >= n) break;
-            std::size_t m = c0;
-            const std::size_t cEnd = std::min(c0 + 4, n);
-            for (std::size_t c = c0 + 1; c < cEnd; ++c)
-                if (h[c] < h[m]) m = c;
-            if (!(h[m] < last)) break;
-            h[i] = h[m];
-            i = m;
+    bool empty() const { return count == 0; }
+    void clear() {
+        for (auto& b : bucket) b.clear();
+        last = 0;
+        count = 0;
+    }
+    void push(double d, NodeId v) {
+        const std::uint64_t k = keyOf(d);
+        bucket[slot(k)].push_back({k, v});
+        ++count;
+    }
+    /// Removes and returns an entry of the smallest distance (the queue is not empty).
+    std::pair<double, NodeId> pop() {
+        if (bucket[0].empty()) {
+            std::size_t i = 1;
+            while (bucket[i].empty()) ++i;
+            std::uint64_t m = bucket[i][0].first;
+            for (const Entry& e : bucket[i]) m = std::min(m, e.first);
+            last = m;
+            for (const Entry& e : bucket[i]) bucket[slot(e.first)].push_back(e);
+            bucket[i].clear();
         }
-        h[i] = last;
-        return top;
+        const Entry e = bucket[0].back();
+        bucket[0].pop_back();
+        --count;
+        return {valueOf(e.first), e.second};
+    }
+    std::size_t bytes() const {
+        std::size_t b = 0;
+        for (const auto& v : bucket) b += v.capacity() * sizeof(Entry);
+        return b;
     }
 };
 
@@ -397,14 +415,16 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     double* const f = flow.data();
 
     // Dijkstra over residual arcs with reduced costs w + π(u) − π(v) (≥ 0 up to round-off).
-    // The heap (storage reused by every phase) holds (distance, node) entries that are all
-    // distinct — an entry is pushed only when it lowers the node's distance — so nodes leave it
-    // in one order whatever the heap's layout: by distance, ties by node id. A popped entry
-    // that is no longer its node's distance is stale (the node left earlier); a node that has
-    // left is never lowered again (its distance is at most the popped one, and arcs add ≥ 0),
-    // so it needs no mark of its own. The sink is reached iff it is settled (`dist` finite).
+    // The queue (storage reused by every phase) is monotone: a node leaves it at its final
+    // distance, the minimum over the same sums whatever the order in which nodes of equal
+    // distance leave. A popped entry that is no longer its node's distance is stale (the node
+    // left earlier); a node that has left is never lowered again (its distance is at most the
+    // popped one, and arcs add ≥ 0), so it needs no mark of its own. The sink is reached iff it
+    // is settled (`dist` finite). With the early exit at the sink, a node at exactly the sink's
+    // distance may or may not have left, but the potentials take min(dist, dT) and every
+    // unsettled distance is at least dT, so they are the same either way.
     std::vector<double> pi(nodes, 0.0), dist(nodes);
-    QuadHeap heap;
+    RadixHeap heap;
     const auto dijkstra = [&](bool throughSink) {
         std::fill(dist.begin(), dist.end(), kInf);
         double* const d = dist.data();
@@ -419,10 +439,10 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
         const NodeId to = sink;
         const ArcId scBegin = sinkBegin;
         const double eps = flowEps;
-        heap.entries.clear();
+        heap.clear();
         d[net.source] = 0;
-        heap.push({0.0, net.source});
-        while (!heap.entries.empty()) {
+        heap.push(0.0, net.source);
+        while (!heap.empty()) {
             const auto [du, u] = heap.pop();
             if (du != d[u]) continue;  // stale
             if (u == to) break;        // early exit: the rest is at least this far
@@ -441,7 +461,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
                 const double nd = du + std::max(0.0, w + pu - p[v]);
                 if (nd < d[v]) {
                     d[v] = nd;
-                    heap.push({nd, v});
+                    heap.push(nd, v);
                 }
             }
         }
@@ -558,7 +578,7 @@ MaxFlowResult leastResistanceMaxFlow(const FlowNetwork& net, const LeastResistan
     }
     if (compactBytes == 0) compactBytes = solver.bytes() + bytesOf(capSymmetric);
     out.solverBytes =
-        std::max(compactBytes, lastBytes) + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + bytesOf(heap.entries);
+        std::max(compactBytes, lastBytes) + bytesOf(sinkCost) + bytesOf(pi) + bytesOf(dist) + heap.bytes();
     out.cost = flowCost(net, flow);
     return out;
 }
