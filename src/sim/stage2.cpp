@@ -544,9 +544,15 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
     const std::vector<double>& water = st.water;
     const Dims& d = dom.dims;
     forEachTile(st, [&](const TileCtx& c) {
-        // A tile whose water did not change since its last scan has no senders (a sender always works
-        // on its own tile, which marks it changed).
-        if (!st.waterChanged[c.slot]) return;
+        // A tile whose water did not change since its last scan and holds none that could flow has no
+        // senders (a sender always works on its own tile, which marks it changed). A tile that holds
+        // such water is scanned again although it did not change: its voxels had no lower neighbour
+        // with room, and a fall of pressure around them may have made one.
+        if (!st.waterChanged[c.slot]) {
+            std::uint8_t any = 0;
+            for (std::uint8_t b : st.flowingMask[c.slot]) any |= b;
+            if (!any) return;
+        }
         st.waterChanged[c.slot] = 0;
         TileMask& senders = st.senderMask[c.slot];
         // Only senders have a norm and a scale: the last ones go back to rest, then the voxels
@@ -883,18 +889,15 @@ double pressureNeeded(Stage2State& st, const Grid3<double>& pressure) {
 }
 
 double pressureRead(const Domain& dom, const Stage2State& st, const Grid3<double>& pressure) {
-    // The next iteration's senders are the voxels holding at least kMinFlowingWater now (no sink)
-    // and the sources (refilled first). Outside this iteration's work masks no voxel sent or
-    // received, so none holds that much: only the flowing voxels of the masks are walked. Stored
-    // values are at least the true ones, so their largest bounds the true pressure of every sender.
+    // The next iteration's senders are among the voxels holding at least kMinFlowingWater now (no
+    // sink) and the sources (refilled first): the flowing voxels of every active tile, also those
+    // that sent nothing this iteration (no lower neighbour had room; a fall of pressure may give
+    // them one). Stored values are at least the true ones, so their largest bounds the true
+    // pressure of every sender.
     std::vector<double> top(st.activeTiles.size(), 0.0);
     forEachTile(st, [&](const TileCtx& c) {
-        if (!st.nearSender[c.slot]) return;
-        TileMask flowingWork;
-        for (std::size_t r = 0; r < 64; ++r)
-            flowingWork[r] = std::uint8_t(st.workMask[c.slot][r] & st.flowingMask[c.slot][r]);
         double m = 0;
-        forEachMasked(st.dims, c, flowingWork, [&](std::size_t v, std::size_t, int, int, int) {
+        forEachMasked(st.dims, c, st.flowingMask[c.slot], [&](std::size_t v, std::size_t, int, int, int) {
             if (!(dom.flags[v] & kSink)) m = std::max(m, pressure[v]);
         });
         top[c.slot] = m;

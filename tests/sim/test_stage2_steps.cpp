@@ -136,6 +136,37 @@ TEST(Stage2Steps, SendersAreFoundAmongTheWetVoxelsAsTheWaterMoves) {
     EXPECT_EQ(r.st.senderMask[0][0], 0b0100);
 }
 
+// A voxel holding water with no lower neighbour sends nothing, and nothing near it sends, so its
+// tile's water does not change; when the pressure beside it falls it must send (Listing 1 visits
+// every voxel every iteration), and the pressure bound must cover it before that. The row is 20
+// voxels long so that the stranded voxel (0) lies two tiles away from the only sender (18 → 19).
+TEST(Stage2Steps, StrandedWaterSendsOnceThePressureBesideItFalls) {
+    std::vector<float> R(20, 0.5f);
+    std::vector<double> W(20, 0.0), p(20, 10.0);
+    W[0] = 0.3;
+    p[0] = 5;  // lower than both neighbours: stranded
+    W[18] = 0.2;
+    p[18] = 1;
+    p[19] = 0;
+    Row3 r(R, W, p);
+    const auto iteration = [&] {
+        computeOffers(r.dom, r.P, TransportWeight::kProportional, r.st);
+        r.accept();
+        r.move();
+    };
+    iteration();
+    EXPECT_EQ(r.st.water[0], 0.3);  // nothing lower: it stays
+    EXPECT_EQ(r.st.water[19], 0.2);
+    iteration();                      // nothing changed near voxel 0
+    EXPECT_EQ(r.st.water[0], 0.3);
+    // The bound of the pressures the next iteration reads covers the stranded voxel.
+    EXPECT_GE(pressureRead(r.dom, r.st, r.P), 5.0);
+    r.P[1] = 4;  // the pressure beside it falls
+    iteration();
+    EXPECT_DOUBLE_EQ(r.st.water[1], 0.3);  // all of it moved: voxel 1 had room for it
+    EXPECT_EQ(r.st.water[0], 0.0);
+}
+
 // Two donors (P 2) offer 0.2 each to the voxel between them (P 0), which has 0.2 of free capacity:
 // it accepts half of every offer, so each donor sends 0.1. Water is conserved.
 TEST(Stage2Steps, OverOfferedReceiverAcceptsTheSameFractionOfEveryOffer) {
