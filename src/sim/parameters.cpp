@@ -898,7 +898,8 @@ std::vector<ParamSection> makeRegistry() {
             real("years", &SpeleothemOptions::years, rng(0, 1e6), "years of growth").unitIs("yr"),
             real("time_step", &SpeleothemOptions::timeStep, rng(0, 1e5),
                  "years between two updates of the speed field; 0 = the stable step, in which the fastest point "
-                 "moves half a level-set voxel (the advection sub-steps at its own CFL limit within a step)")
+                 "moves half a level-set voxel (the advection sub-steps at its own CFL limit within a step); "
+                 "`years` / `time_step` may not exceed 10⁶ steps")
                 .unitIs("yr")
                 .defaultShown("0 (stable step)"),
             real("alpha", &SpeleothemOptions::alpha, rng(0, 100, "(]"),

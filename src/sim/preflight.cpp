@@ -51,7 +51,8 @@ std::string megabytes(double bytes) {
 std::string roughTime(double seconds) {
     if (seconds < 90) return std::to_string(std::max(1L, std::lround(seconds))) + " s";
     if (seconds < 5400) return std::to_string(std::lround(seconds / 60)) + " min";
-    return std::to_string(std::lround(seconds / 3600)) + " h";
+    if (seconds < 3600.0 * 24 * 365 * 100) return std::to_string(std::lround(seconds / 3600)) + " h";
+    return "more than a century";  // no integer overflow however absurd the request
 }
 
 }  // namespace
@@ -135,9 +136,9 @@ std::string describeEstimate(const RunEstimate& e) {
         "peak memory about " + megabytes(e.peakBytes) + " (" + e.peakPhase + "), time roughly " + roughTime(e.seconds);
     if (e.speleoVoxels > 0) {
         char buf[160];
-        std::snprintf(buf, sizeof buf, " (speleothems: about %.1f M level-set voxels for %s m² of cave, %ld steps, %s)",
-                      e.speleoVoxels / 1e6, withThousands(std::lround(e.speleoSurfaceM2)).c_str(),
-                      std::lround(e.speleoSteps), roughTime(e.speleoSeconds).c_str());
+        std::snprintf(buf, sizeof buf, " (speleothems: about %.1f M level-set voxels for %s m² of cave, %.0f steps, %s)",
+                      e.speleoVoxels / 1e6, withThousands(std::lround(e.speleoSurfaceM2)).c_str(), e.speleoSteps,
+                      roughTime(e.speleoSeconds).c_str());
         text += buf;
     }
     return text;

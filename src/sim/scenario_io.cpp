@@ -639,6 +639,9 @@ void checkStage2Tables(const toml::table& root, const Scenario& s) {
 
 }  // namespace
 
+/// The most speleothem steps a `time_step` may ask for.
+constexpr double kMaxSpeleothemSteps = 1e6;
+
 Scenario parseScenarioTable(const toml::table& root, const std::string& sourceName) {
     Scenario s;
     s.path = sourceName;
@@ -655,6 +658,17 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
                          "' = " + std::to_string(sp.frames) + ": growth frames are pictures, and '" +
                          scenarioKey(s, &s.output.images) +
                          "' = false writes none: leave the key out (or 0) or set images = true");
+    // A step far below the stable one only multiplies the steps (each a walk over the level set):
+    // more than a million is refused rather than run for days.
+    if (sp.enabled && sp.timeStep > 0 && sp.years / sp.timeStep > kMaxSpeleothemSteps) {
+        std::ostringstream os;
+        os << where(s, keyLine(s, &sp.timeStep)) << ": key '" << scenarioKey(s, &sp.timeStep)
+           << "' = " << shortestText(sp.timeStep) << ": " << shortestText(sp.years) << " years in steps of "
+           << shortestText(sp.timeStep) << " years would take " << shortestText(std::ceil(sp.years / sp.timeStep))
+           << " steps, more than " << long(kMaxSpeleothemSteps) << "; use a step of at least "
+           << shortestText(sp.years / kMaxSpeleothemSteps) << " years, or 0 (the stable step)";
+        throw InputError(os.str());
+    }
     checkSnapshots(s, keyLine(s, &s.stage2.snapshots));
     validateScenario(s);
     return s;
