@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
         "resume",
         "Finish a stopped `run --checkpoint-every N` from its newest checkpoint: the same files as a run "
         "that never stopped");
-    resumeCmd->add_option("dir", resume.dir, "Output directory of the stopped run (its --out)")->required();
+    resumeCmd->add_option("dir", resume.dir, "Output directory of the stopped run (its --out)")->required()->check(notEmpty);
     resumeCmd->add_option("--threads,-j", resume.threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
     resumeCmd->add_flag("--force,-f", resume.force, "Replace a non-empty output directory");

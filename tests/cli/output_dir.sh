@@ -67,6 +67,9 @@ expect_exit 2 "an empty --out" -- "$CAVESIM" run s.toml --out "" -q
 stderr_has "--out: an empty path"
 [ ! -e out ] && pass "nothing written for an empty --out" || fail "out/ was created"
 expect_exit 2 "an empty ensemble --out" -- "$CAVESIM" ensemble s.toml --members 1 --out ""
+# So is an empty folder to resume (it failed with a raw library message, exit 1).
+expect_exit 2 "resume with an empty folder" -- "$CAVESIM" resume ""
+stderr_has "dir: an empty path"
 # A name longer than the file system allows is refused before the run (it failed when the results
 # were moved into place, exit 1, after all the work).
 toolong=$(printf 'n%.0s' $(seq 256))
