@@ -110,13 +110,21 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
     std::vector<SourceSpec> out;
     switch (r.kind) {
         case RechargeKind::kSinkholes: {
+            // Columns drawn from the whole area, each moved (if need be) to the nearest centre at least
+            // r columns inside it, so that every box lies whole in the area (and in the block);
+            // validateRecharge has checked that 2r + 1 columns fit.
             const int w = a.x1 - a.x0 + 1, h = a.y1 - a.y0 + 1;
+            if (w < 2 * r.radius + 1 || h < 2 * r.radius + 1) {
+                fits = false;
+                return {};
+            }
             std::vector<std::size_t> cells(std::size_t(w) * std::size_t(h));
             std::iota(cells.begin(), cells.end(), std::size_t(0));
             std::vector<std::array<int, 2>> taken;
             for (std::size_t n = 0; n < cells.size() && int(taken.size()) < r.count; ++n) {
                 std::swap(cells[n], cells[n + uniformIndex(rng, cells.size() - n)]);  // Fisher-Yates, lazily
-                const int i = a.x0 + int(cells[n] % std::size_t(w)), j = a.y0 + int(cells[n] / std::size_t(w));
+                const int i = std::clamp(a.x0 + int(cells[n] % std::size_t(w)), a.x0 + r.radius, a.x1 - r.radius);
+                const int j = std::clamp(a.y0 + int(cells[n] / std::size_t(w)), a.y0 + r.radius, a.y1 - r.radius);
                 const bool apart = std::all_of(taken.begin(), taken.end(), [&](const std::array<int, 2>& t) {
                     return std::max(std::abs(t[0] - i), std::abs(t[1] - j)) >= 2 * r.radius + 1;
                 });

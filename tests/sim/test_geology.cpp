@@ -329,6 +329,25 @@ at = [35, 15, 11]
     EXPECT_EQ(bad("kappa", "0.0").rfind("bad.toml:", 0), 0u);
 }
 
+// An area exactly 2r + 1 columns wide holds one sinkhole, which fills it, whatever the seed; at the
+// block's corner too (it was clipped there to fewer columns).
+TEST(Recharge, ASinkholeFillsAnAreaOfItsOwnSize) {
+    for (const auto& [x0, y0] : {std::pair{10, 10}, std::pair{0, 0}})
+        for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+            const std::string text = std::string(kBlock) + "\n[[recharge]]\nkind = \"sinkholes\"\narea = [" +
+                                     std::to_string(x0) + ", " + std::to_string(y0) + ", " + std::to_string(x0 + 8) +
+                                     ", " + std::to_string(y0 + 8) + "]\ncount = 1\nradius = 4\n";
+            Scenario s = parseScenarioString(text, "r.toml");
+            s.seed = seed;
+            const std::vector<SourceSpec> a = rechargeSources(s);
+            ASSERT_EQ(a.size(), 1u);
+            EXPECT_EQ(a[0].box.lo[0], x0) << "seed " << seed;
+            EXPECT_EQ(a[0].box.lo[1], y0) << "seed " << seed;
+            EXPECT_EQ(a[0].box.hi[0], x0 + 8) << "seed " << seed;
+            EXPECT_EQ(a[0].box.hi[1], y0 + 8) << "seed " << seed;
+        }
+}
+
 TEST(Recharge, SinkholesAreDrawnInsideTheirAreaDeterministically) {
     const std::string text = std::string(kBlock) + R"(
 [[recharge]]
@@ -346,11 +365,13 @@ pressure = 2.0
         EXPECT_EQ(a[i].pressure, 2.0);
         EXPECT_EQ(a[i].box.hi[2], 11);  // the top layer
         EXPECT_EQ(a[i].box.lo[2], 10);  // radius 1: two layers
-        const int ci = a[i].box.lo[0] + 1, cj = a[i].box.lo[1] + 1;
-        EXPECT_GE(ci, 10);
-        EXPECT_LE(ci, 30);
-        EXPECT_GE(cj, 5);
-        EXPECT_LE(cj, 25);
+        // The whole 3 × 3 box in the area (its centre once landed anywhere in it, the box hanging out).
+        EXPECT_GE(a[i].box.lo[0], 10);
+        EXPECT_LE(a[i].box.hi[0], 30);
+        EXPECT_GE(a[i].box.lo[1], 5);
+        EXPECT_LE(a[i].box.hi[1], 25);
+        EXPECT_EQ(a[i].box.hi[0] - a[i].box.lo[0], 2);
+        EXPECT_EQ(a[i].box.hi[1] - a[i].box.lo[1], 2);
         for (std::size_t k = 0; k < i; ++k)  // 3 × 3 boxes that do not overlap
             EXPECT_GE(std::max(std::abs(a[k].box.lo[0] - a[i].box.lo[0]), std::abs(a[k].box.lo[1] - a[i].box.lo[1])),
                       3);

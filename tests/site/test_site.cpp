@@ -307,9 +307,9 @@ TEST_F(SiteTest, RechargeSitsOnTheDemsLandSurface) {
     diffuse.kind = RechargeKind::kDiffuse;
     diffuse.spacing = 1.0;
     diffuse.line = 20;
-    RechargeSpec sinkhole;  // one of radius 1 centred on column (3, 2): its columns' surfaces are 2, 3, 3
+    RechargeSpec sinkhole;  // one of radius 1 filling its area, centred on column (3, 2): surfaces 2, 3, 3
     sinkhole.kind = RechargeKind::kSinkholes;
-    sinkhole.area = {3, 2, 3, 2};
+    sinkhole.area = {2, 1, 4, 3};
     sinkhole.count = 1;
     sinkhole.radius = 1;
     sinkhole.line = 30;
