@@ -327,6 +327,9 @@ bool hasSiteFiles(const Scenario& s) {
            !s.site.baseOfLimestone.empty() || !s.site.waterTable.empty() || !s.siteHorizons.empty();
 }
 
+/// The most sources a run may have (stage 1 marches one zone per source; sim/recharge.cpp).
+constexpr std::size_t kMaxSiteSources = 256;
+
 void loadSite(Scenario& s) {
     if (!hasSiteFiles(s)) return;
     // Paths relative to the scenario file's folder, made absolute for the effective scenario.
@@ -479,6 +482,14 @@ void loadSite(Scenario& s) {
             data->sinkNames.push_back(p.name);
         }
     }
+    // Stage 1 marches one zone per source: at most 256 in all, as with [[source]] and [[recharge]]
+    // (which validateRecharge counts with these).
+    if (s.sources.size() + data->sources.size() > kMaxSiteSources)
+        throw InputError(label(&s.site.sinkholes, s.site.sinkholes) + ": " + std::to_string(data->sources.size()) +
+                         " sinkholes with the " + std::to_string(s.sources.size()) + " [[source]] entries make " +
+                         std::to_string(s.sources.size() + data->sources.size()) + " sources; at most " +
+                         std::to_string(kMaxSiteSources) +
+                         " are allowed (stage 1 marches one zone per source): merge or drop sinkholes");
     if (s.stage2.enabled && s.sinks.empty() && data->sinks.empty())
         throw InputError(s.path + ": stage 2 needs at least one sink, and the springs file has no rows");
     if ((s.stage1.enabled || s.stage2.enabled) && s.sources.empty() && s.recharge.empty() && data->sources.empty())

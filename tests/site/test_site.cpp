@@ -192,6 +192,27 @@ TEST_F(SiteTest, PointsOutsideTheBlockAreRefused) {
     EXPECT_NE(e.find("lies above the land surface (153 m there)"), std::string::npos) << e;
 }
 
+// Stage 1 marches one zone per source: a sinkholes file may not take the run past 256 sources (it
+// was accepted, and 300 ran for 22 s against an estimate of 1 s).
+TEST_F(SiteTest, MoreThan256SourcesAreRefused) {
+    Scenario s = scenario();
+    s.site.dem = dem();
+    const auto rows = [](int n) {
+        std::string csv = "x,y,name\n";
+        for (int r = 0; r < n; ++r)
+            csv += std::to_string(500005 + 10 * (r % 8)) + "," + std::to_string(4000005 + 10 * ((r / 8) % 6)) + ",S" +
+                   std::to_string(r) + "\n";
+        return csv;
+    };
+    s.site.sinkholes = text("many.csv", rows(257));
+    const std::string e = error(s);
+    EXPECT_NE(e.find("257 sinkholes with the 0 [[source]] entries make 257 sources; at most 256 are allowed"),
+              std::string::npos)
+        << e;
+    s.site.sinkholes = text("enough.csv", rows(256));
+    EXPECT_EQ(error(s), "");
+}
+
 TEST_F(SiteTest, SurfacesThatLeaveOrMissTheBlockAreRefused) {
     Scenario s = scenario();
     s.site.dem =
