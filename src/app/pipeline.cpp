@@ -228,7 +228,7 @@ PipelineResult runPipeline(const Scenario& s, const OutputDir& dir, const Pipeli
     if (s.output.images && s.stage2.enabled) render::writeFieldPictures(dom, cave.mask, imagesDir, width);
     if (s.speleothems.enabled) {
         const speleo::DecorationSummary decoration =
-            speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images, s.output.mesh);
+            speleo::decorateCave(cave, s.speleothems, outDir, width, s.output.images, s.output.mesh, progress);
         rec.speleothems = speleothemsJson(decoration);
         // The decorated meshes are recorded by their bytes beside the state files (none for an
         // empty cave or with [output] mesh = false).

@@ -116,7 +116,7 @@ render::Image renderMesh(const mesh::TriangleMesh& m, const render::Camera& cam,
 }
 
 DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, const std::string& dir, int imageWidth,
-                               bool images, bool meshes) {
+                               bool images, bool meshes, const ProgressFn& progress) {
     Stopwatch watch;
     DecorationSummary sum;
     sum.voxelSize = o.voxelSize;
@@ -142,7 +142,7 @@ DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& o, con
             if (int(frameFields.size()) >= frames) return;
             frameFields.push_back(f);
             frameTimes.push_back(years);
-        });
+        }, progress);
     sum.stalactites = g.stalactites;
     measureGrowth(original, sum.stalactites);
     sum.steps = g.steps;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.h"
 #include "mesh/cave_mesh.h"
 #include "render/image.h"
 #include "render/view.h"
@@ -43,9 +44,11 @@ struct DecorationSummary {
 /// Decorates `cave` and writes, when `meshes`, `dir`/cave_decorated.obj, .ply, .glb and, when
 /// `images`, `dir`/images/speleo_perspective_NN.png and speleo_closeup_NN.png (NN = frame).
 /// `!options.drained` still writes the (undecorated) surface; an empty cave writes nothing.
+/// `progress` is told "speleothems" and the years grown after every step (a safe point: it may
+/// throw `Cancelled`, and nothing has been written then).
 /// @throw RuntimeError when a file cannot be written
 DecorationSummary decorateCave(const Cave& cave, const SpeleothemOptions& options, const std::string& dir,
-                               int imageWidth, bool images, bool meshes);
+                               int imageWidth, bool images, bool meshes, const ProgressFn& progress = {});
 
 /// Z-buffered picture of `mesh` through `camera` on a `width` × `height` canvas: diffuse and
 /// head light, stone colour shaded by height between `zLow` and `zHigh` (metres).

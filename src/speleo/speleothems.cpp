@@ -507,7 +507,7 @@ StepResult growStep(DecorationField& field, const SpeleothemOptions& options, do
 }
 
 GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std::vector<double>& frameYears,
-                  const GrowthCallback& atFrame) {
+                  const GrowthCallback& atFrame, const ProgressFn& progress) {
     CAVESIM_CHECK(field.impl && field.impl->grid, "an empty decoration field");
     initVdb();
     GrowthResult res;
@@ -538,6 +538,7 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
         t += dt;
         ++res.steps;
         while (crossed < frameYears.size() && frameYears[crossed] <= t + 1e-9) ++crossed;
+        reportProgress(progress, "speleothems", long(std::floor(t)), long(std::ceil(o.years)));
     }
     res.years = t;
     return res;

@@ -43,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.h"
 #include "mesh/cave_mesh.h"
 #include "sim/options.h"
 
@@ -123,8 +124,10 @@ struct GrowthResult {
 /// Grows `options.years` years in stable steps (or `options.timeStep`), calling `atFrame` at
 /// year 0 and after the steps that cross each of `frameYears` (ascending).
 /// @throw InputError-free: options are validated by the registry; InternalError on a bad field
+/// `progress` ("speleothems", whole years grown, years asked) is called after every step: a safe
+/// point where it may throw `Cancelled`.
 GrowthResult grow(DecorationField& field, const SpeleothemOptions& options, const std::vector<double>& frameYears = {},
-                  const GrowthCallback& atFrame = {});
+                  const GrowthCallback& atFrame = {}, const ProgressFn& progress = {});
 
 /// Sets `grownLength` of each stalactite: the vertical distance from its tip up to the surface of
 /// `original` (the field before growth) on the same vertical, i.e. the length of grown material

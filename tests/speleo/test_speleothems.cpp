@@ -8,6 +8,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/error.h"
 #include "mesh/cave_mesh.h"
 #include "speleo/speleothems.h"
 
@@ -158,6 +159,32 @@ TEST(Speleothems, WaterFilledCaveGrowsNothing) {
     ASSERT_EQ(st.size(), 1u);
     measureGrowth(original, st);
     EXPECT_EQ(st[0].grownLength, 0.0);
+}
+
+// Growth tells its progress after every step, in whole years, and stops at once when the callback
+// throws (a stop signal): it was deaf to SIGTERM for the whole growth.
+TEST(Speleothems, GrowthReportsEveryStepAndStopsWhenAsked) {
+    DecorationField f = room({cone(0.015, 0.03)});
+    SpeleothemOptions o = testOptions();
+    o.years = 100;
+    std::vector<long> done;
+    const GrowthResult g = grow(f, o, {}, {}, [&](const std::string& phase, long d, long total) {
+        EXPECT_EQ(phase, "speleothems");
+        EXPECT_EQ(total, 100);
+        done.push_back(d);
+    });
+    ASSERT_GT(g.steps, 1);
+    ASSERT_EQ(done.size(), std::size_t(g.steps));
+    EXPECT_TRUE(std::is_sorted(done.begin(), done.end()));
+    EXPECT_EQ(done.back(), 100);
+    DecorationField h = room({cone(0.015, 0.03)});
+    int calls = 0;
+    EXPECT_THROW(grow(h, o, {}, {},
+                      [&](const std::string&, long, long) {
+                          if (++calls == 2) throw Cancelled("SIGTERM");
+                      }),
+                 Cancelled);
+    EXPECT_EQ(calls, 2);
 }
 
 /// Tip descent of a protuberance over `years`, mm/yr.
