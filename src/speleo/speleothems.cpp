@@ -324,14 +324,51 @@ void advectStages(FloatGrid& grid, const MapT& map, const std::vector<Coord>& at
     stage(true);
 }
 
+using MaskTree = FloatGrid::TreeType::ValueConverter<openvdb::ValueMask>::Type;
+
+/// Motion of the level set not yet followed by a renormalisation, and the union of the tracking
+/// regions it happened in (`grow` keeps it from one step to the next).
+struct Unsettled {
+    double voxels = 0;          ///< the fastest point's motion since, in voxels
+    MaskTree reach, reachPlus;  ///< within kTrackReach − 1 voxels of what moved, and one voxel more
+    bool any = false;
+};
+
+/// The band is renormalised once the fastest point has moved this many voxels since the last time.
+/// A step of the stable size (half a voxel) or a CFL sub-step is renormalised at once, as always;
+/// smaller steps (a `time_step` below the stable one) wait and add up. Renormalising after every
+/// tiny step rounded the convex tips a little each time, more than they grew, and with
+/// `time_step` = 10 (500 steps of 0.02 voxel) no stalactite was left of those the stable step grows.
+constexpr double kSettleVoxels = 0.25;
+
+/// Dilates the band by one voxel (faces) within the pending reach, renormalises it there (three
+/// TVD-RK1 iterations, `LevelSetTracker`) and trims it; then nothing is pending.
+void settle(FloatGrid::Ptr& grid, Unsettled& u) {
+    if (!u.any) return;
+    MaskTree grow(u.reach), region(u.reachPlus);
+    grow.topologyIntersection(grid->tree());
+    openvdb::tools::dilateActiveValues(grow, 1, openvdb::tools::NN_FACE, openvdb::tools::IGNORE_TILES);
+    grid->tree().topologyUnion(grow);
+    region.topologyIntersection(grid->tree());
+    openvdb::tools::LevelSetTracker<FloatGrid> tracker(*grid);
+    tracker.setSpatialScheme(openvdb::math::HJWENO5_BIAS);
+    tracker.setTemporalScheme(openvdb::math::TVD_RK1);
+    tracker.normalize(&region);
+    tracker.prune();
+    u.voxels = 0;
+    u.reach.clear();
+    u.reachPlus.clear();
+    u.any = false;
+}
+
 /// Advects the level set by the analysis' normal speeds (the largest `vmax`, `maxSpeed`) for
 /// `years` years. The moving voxels
 /// take OpenVDB's `LevelSetAdvection` step (HJWENO5, TVD-RK2, CFL sub-steps); the band is then
-/// dilated, renormalised (three TVD-RK1 iterations, `LevelSetTracker`) and trimmed only within
-/// `kTrackReach` voxels of a moving voxel: the still surface far from any growth keeps its
-/// distances as they are (a whole-band renormalisation would cost a pass over every voxel each
-/// step and slowly round the still relief).
-void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years) {
+/// dilated, renormalised and trimmed (`settle`) only within `kTrackReach` voxels of a moving voxel,
+/// once the motion since the last time reaches `kSettleVoxels`: the still surface far from any
+/// growth keeps its distances as they are (a whole-band renormalisation would cost a pass over
+/// every voxel each step and slowly round the still relief).
+void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years, Unsettled& pending) {
     if (!(vmax > 0) || !(years > 0)) return;
     std::vector<Coord> at;
     std::vector<openvdb::Vec3f> vel;
@@ -346,7 +383,6 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years) 
             }
         }
     if (at.empty()) return;
-    using MaskTree = FloatGrid::TreeType::ValueConverter<openvdb::ValueMask>::Type;
     // The tracking region, from where the voxels move at first (fixed for the sub-steps): within
     // kTrackReach − 1 voxels of them, and one voxel more.
     MaskTree reach;
@@ -355,6 +391,9 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years) 
                                        openvdb::tools::IGNORE_TILES);
     MaskTree reachPlus(reach);
     openvdb::tools::dilateActiveValues(reachPlus, 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
+    pending.reach.topologyUnion(reach);
+    pending.reachPlus.topologyUnion(reachPlus);
+    pending.any = true;
     const auto* map = grid->transform().constMap<openvdb::math::UniformScaleMap>().get();
     CAVESIM_CHECK(map != nullptr, "the decoration level set needs a uniform scale transform");
     const float h = float(grid->voxelSize()[0]);
@@ -370,19 +409,11 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years) 
         if (openvdb::math::isZero(dt)) break;
         advectStages(*grid, *map, at, vel, dt);
         time0 += dt;
-
-        // Track the band near the moving voxels: dilate by one voxel (faces), renormalise, trim.
-        MaskTree grow(reach), region(reachPlus);
-        grow.topologyIntersection(grid->tree());
-        openvdb::tools::dilateActiveValues(grow, 1, openvdb::tools::NN_FACE, openvdb::tools::IGNORE_TILES);
-        grid->tree().topologyUnion(grow);
-        region.topologyIntersection(grid->tree());
-        openvdb::tools::LevelSetTracker<FloatGrid> tracker(*grid);
-        tracker.setSpatialScheme(openvdb::math::HJWENO5_BIAS);
-        tracker.setTemporalScheme(openvdb::math::TVD_RK1);
-        tracker.normalize(&region);
-        tracker.prune();
-        // Voxels trimmed out of the band take no further sub-step.
+        pending.voxels += double(dt) * std::sqrt(double(maxAbsV)) / double(h);
+        if (pending.voxels < kSettleVoxels) continue;
+        settle(grid, pending);
+        // Voxels trimmed out of the band take no further sub-step; the next sub-step tracks
+        // the same region.
         std::size_t k = 0;
         const auto acc = grid->getConstAccessor();
         for (std::size_t i = 0; i < at.size(); ++i)
@@ -392,6 +423,11 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years) 
             }
         at.resize(k);
         vel.resize(k);
+        if (time0 < time1) {
+            pending.reach.topologyUnion(reach);
+            pending.reachPlus.topologyUnion(reachPlus);
+            pending.any = true;
+        }
     }
 }
 
@@ -502,7 +538,9 @@ StepResult growStep(DecorationField& field, const SpeleothemOptions& options, do
     initVdb();
     Analysis a = analyse(*field.impl->grid, options);
     const double vmax = maxSpeed(a);
-    advect(field.impl->grid, a, vmax, years);
+    Unsettled pending;
+    advect(field.impl->grid, a, vmax, years, pending);
+    settle(field.impl->grid, pending);
     return StepResult{std::move(a.stalactites), vmax};
 }
 
@@ -515,7 +553,9 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
     std::size_t nextFrame = 0, crossed = 0;  // frames shown; frames the steps so far have reached
     double t = 0;
     bool first = true;
+    Unsettled pending;
     while (true) {
+        if (t >= o.years - 1e-9) settle(field.impl->grid, pending);  // the last surface, renormalised
         Analysis a = analyse(*field.impl->grid, o);
         const double vmax = maxSpeed(a);
         res.maxSpeed = std::max(res.maxSpeed, vmax);
@@ -534,12 +574,13 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
             break;
         }
         const double dt = std::min(speleothemStep(o, h, vmax), o.years - t);
-        advect(field.impl->grid, a, vmax, dt);
+        advect(field.impl->grid, a, vmax, dt, pending);
         t += dt;
         ++res.steps;
         while (crossed < frameYears.size() && frameYears[crossed] <= t + 1e-9) ++crossed;
         reportProgress(progress, "speleothems", long(std::floor(t)), long(std::ceil(o.years)));
     }
+    settle(field.impl->grid, pending);  // growth that stopped early leaves no motion unsettled either
     res.years = t;
     return res;
 }
