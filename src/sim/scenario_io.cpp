@@ -676,13 +676,19 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
 
 namespace {
 
+/// The line of the key holding `field`, or `fallback` (its table's line) when it was not written.
+int keyLineOr(const Scenario& s, const void* field, int fallback) {
+    const int line = keyLine(s, field);
+    return line > 0 ? line : fallback;
+}
+
 /// The water tables and the phases' terminals (docs/model.md, "Water table and gravity").
 void validateHydrology(const Scenario& s) {
     const int nz = s.size[2];
     const auto checkLevel = [&](double level, const void* field, int line, const std::string& entry) {
         if (level == -1.0 || (level >= 0 && level <= nz - 1)) return;
         std::ostringstream os;
-        os << where(s, line) << ": key '" << scenarioKey(s, field) << "'" << entry << " = " << shortestText(level)
+        os << where(s, keyLineOr(s, field, line)) << ": key '" << scenarioKey(s, field) << "'" << entry << " = " << shortestText(level)
            << ": a water table must lie in the block, 0 to nz - 1 = " << nz - 1
            << " (voxel index units), or be -1 for none";
         throw InputError(os.str());
@@ -690,10 +696,11 @@ void validateHydrology(const Scenario& s) {
     const Hydrology& h = s.stage2.hydrology;
     checkLevel(h.waterTable, &h.waterTable, h.line, "");
     if (h.fromSite && s.site.waterTable.empty())
-        throw InputError(where(s, h.line) + ": key '" + scenarioKey(s, &h.fromSite) + "' = true needs a surface in '" +
+        throw InputError(where(s, keyLineOr(s, &h.fromSite, h.line)) + ": key '" + scenarioKey(s, &h.fromSite) +
+                         "' = true needs a surface in '" +
                          scenarioKey(s, &s.site.waterTable) + "'");
     if (h.fromSite && (h.waterTable != -1.0 || h.dip != 0.0))
-        throw InputError(where(s, h.line) + ": key '" + scenarioKey(s, &h.fromSite) +
+        throw InputError(where(s, keyLineOr(s, &h.fromSite, h.line)) + ": key '" + scenarioKey(s, &h.fromSite) +
                          "' = true takes the table from the site: "
                          "leave '" +
                          scenarioKey(s, &h.waterTable) + "' at -1 and '" + scenarioKey(s, &h.dip) + "' at 0");
@@ -723,7 +730,8 @@ void validatePhaseTerminals(const Scenario& s) {
             for (int x : list)
                 if (x < 1 || std::size_t(x) > count) {
                     std::ostringstream os;
-                    os << where(s, ph.line) << ": key '" << scenarioKey(s, field) << "' (entry " << n + 1 << ") names "
+                    os << where(s, keyLineOr(s, field, ph.line)) << ": key '" << scenarioKey(s, field) << "' (entry "
+                       << n + 1 << ") names "
                        << what << " " << x << ": the run has " << count << " " << what << "s, numbered 1 to " << count
                        << " (" << numbering << ")";
                     throw InputError(os.str());

@@ -43,7 +43,7 @@ refused_after_good() {
   expect_exit 2 "$2" -- "$CAVESIM" run "$1.toml" --out o8
 }
 refused_after_good table_high "water table above the block" '[hydrology]\nwater_table = 12\n'
-stderr_has "table_high.toml:21: key 'hydrology.water_table' = 12: a water table must lie in the block, 0 to nz - 1 = 11"
+stderr_has "table_high.toml:22: key 'hydrology.water_table' = 12: a water table must lie in the block, 0 to nz - 1 = 11"
 printf 'phase = []\n' | cat - good.toml > phase_empty.toml
 expect_exit 2 "empty phase list" -- "$CAVESIM" run phase_empty.toml --out o8
 stderr_has "phase_empty.toml:1: key 'phase' = []: an empty list"
@@ -59,9 +59,9 @@ stderr_has "key 'phase.sources' (entry 1) names source 4: the run has 3 sources,
 refused_after_good phase_table "phase water table below the block" '[[phase]]\niterations = 10\nwater_table = -3\n'
 stderr_has "phase.water_table' = -3"
 refused_after_good phase_high "phase water table above the block" '[[phase]]\niterations = 10\nwater_table = 30\n'
-stderr_has "key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
+stderr_has "phase_high.toml:23: key 'phase.water_table' (entry 1) = 30: a water table must lie in the block"
 refused_after_good table_site "water table from a site without one" '[hydrology]\nfrom_site = true\n'
-stderr_has "table_site.toml:21: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
+stderr_has "table_site.toml:22: key 'hydrology.from_site' = true needs a surface in 'site.water_table'"
 # Keys the run would ignore: the table's shape with no water table, a water table or phases with stage 2 off.
 refused_after_good table_dip "dip without a water table" '[hydrology]\ndip = 10\n'
 stderr_has "table_dip.toml:22: key 'hydrology.dip' = 10: shapes the water table, and there is none"
