@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "sim/parameters.h"
 #include "sim/recharge.h"
 #include "sim/scenario_io.h"
@@ -179,10 +180,10 @@ std::vector<SitePoint> readPoints(const std::string& what, const std::string& pa
             for (const auto& c : cols)
                 if (c != "x" && c != "y" && c != "z" && c != "name" && c != "pressure")
                     throw InputError(
-                        what + ":" + std::to_string(lineNo) + ": column '" + c +
+                        what + ":" + std::to_string(lineNo) + ": column '" + printable(c) +
                         "' is not one of x, y, z, name, pressure (the header must name x,y[,z],name[,pressure])");
             if (has("x") != 1 || has("y") != 1 || has("name") != 1 || has("z") > 1 || has("pressure") > 1)
-                throw InputError(what + ":" + std::to_string(lineNo) + ": header '" + t +
+                throw InputError(what + ":" + std::to_string(lineNo) + ": header '" + printable(t) +
                                  "' must name x, y and name once each, and z and pressure at most once");
             continue;
         }
@@ -398,7 +399,12 @@ void loadSite(Scenario& s) {
         }
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
-                const double v = z[std::size_t(i) + std::size_t(nx) * std::size_t(j)];
+                double& v = z[std::size_t(i) + std::size_t(nx) * std::size_t(j)];
+                // Interpolation rounds: a surface given exactly on the block's top or bottom may come
+                // out a few ulps beyond it, and reads as on it.
+                const double slack = 1e-9 * std::max({1.0, std::abs(b.lo[2]), std::abs(b.hi[2])});
+                if (v > b.hi[2] && v <= b.hi[2] + slack) v = b.hi[2];
+                if (v < b.lo[2] && v >= b.lo[2] - slack) v = b.lo[2];
                 if (!(v >= b.lo[2] && v <= b.hi[2]))
                     throw InputError(what + ": the surface leaves the block: elevation " + num(v) + " m at column (" +
                                      std::to_string(i) + ", " + std::to_string(j) + "), world x = " + num(colX(i)) +

@@ -229,6 +229,14 @@ TEST_F(SiteTest, SurfacesThatLeaveOrMissTheBlockAreRefused) {
     s.site.waterTable = text("wt.xyz", "500000 4000000 90\n500100 4000000 90\n500000 4000100 90\n");
     e = error(s);
     EXPECT_NE(e.find("wt.xyz: the surface leaves the block: elevation 90 m"), std::string::npos) << e;
+    // A surface exactly on the block's top or bottom is inside (interpolation once put it a few
+    // ulps beyond, refused as "elevation 200 m … outside the block's elevations [100, 200] m").
+    for (const char* z : {"200", "100", "199.99999999999997"}) {
+        const std::string zs(z);
+        s.site.waterTable = text("edge.xyz", "500000 4000000 " + zs + "\n500100 4000000 " + zs + "\n500000 4000100 " +
+                                                 zs + "\n500033 4000077 " + zs + "\n");
+        EXPECT_EQ(error(s), "") << z;
+    }
 }
 
 TEST_F(SiteTest, MissingFilesAndMalformedCsvAreRefused) {
@@ -240,6 +248,11 @@ TEST_F(SiteTest, MissingFilesAndMalformedCsvAreRefused) {
     EXPECT_NE(error(s).find("bad.csv:1: column 'label' is not one of x, y, z, name, pressure"), std::string::npos);
     s.site.sinkholes = text("bad2.csv", "x,y,name\n500035,north,A\n");
     EXPECT_NE(error(s).find("bad2.csv:2: y = 'north' is not a number"), std::string::npos);
+    // A control byte in the header is shown, not left to cut the message short.
+    const char nul[] = "x,y\0,name\n1,2,A\n";
+    s.site.sinkholes = text("nul.csv", std::string(nul, sizeof nul - 1));
+    EXPECT_NE(error(s).find("nul.csv:1: column 'y\\x00' is not one of x, y, z, name, pressure"), std::string::npos)
+        << error(s);
 }
 
 // A sinkhole or spring in the insoluble rock below the base of the limestone (an inert voxel that
