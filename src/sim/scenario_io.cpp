@@ -658,17 +658,6 @@ Scenario parseScenarioTable(const toml::table& root, const std::string& sourceNa
                          "' = " + std::to_string(sp.frames) + ": growth frames are pictures, and '" +
                          scenarioKey(s, &s.output.images) +
                          "' = false writes none: leave the key out (or 0) or set images = true");
-    // A step far below the stable one only multiplies the steps (each a walk over the level set):
-    // more than a million is refused rather than run for days.
-    if (sp.enabled && sp.timeStep > 0 && sp.years / sp.timeStep > kMaxSpeleothemSteps) {
-        std::ostringstream os;
-        os << where(s, keyLine(s, &sp.timeStep)) << ": key '" << scenarioKey(s, &sp.timeStep)
-           << "' = " << shortestText(sp.timeStep) << ": " << shortestText(sp.years) << " years in steps of "
-           << shortestText(sp.timeStep) << " years would take " << shortestText(std::ceil(sp.years / sp.timeStep))
-           << " steps, more than " << long(kMaxSpeleothemSteps) << "; use a step of at least "
-           << shortestText(sp.years / kMaxSpeleothemSteps) << " years, or 0 (the stable step)";
-        throw InputError(os.str());
-    }
     checkSnapshots(s, keyLine(s, &s.stage2.snapshots));
     validateScenario(s);
     return s;
@@ -754,12 +743,24 @@ bool boxesOverlap(const VoxelBox& a, const VoxelBox& b) {
 
 void validateScenario(const Scenario& s) {
     // Checks the reader makes across keys, again for a scenario changed after reading (an ensemble's
-    // --vary): p_rate_channel at most p_rate, snapshots the run reaches.
+    // --vary): p_rate_channel at most p_rate, snapshots the run reaches, speleothem steps.
     if (s.stage2.pRateChannel > s.stage2.pRate)
         throw InputError(s.path + ": key '" + scenarioKey(s, &s.stage2.pRateChannel) + "' = " +
                          shortestText(s.stage2.pRateChannel) + ": must not exceed " + scenarioKey(s, &s.stage2.pRate) +
                          " (" + shortestText(s.stage2.pRate) + "): channels resist flow less than rock");
     checkSnapshots(s, 0);
+    // A step far below the stable one only multiplies the steps (each a walk over the level set):
+    // more than a million is refused rather than run for days.
+    const SpeleothemOptions& sp = s.speleothems;
+    if (sp.enabled && sp.timeStep > 0 && sp.years / sp.timeStep > kMaxSpeleothemSteps) {
+        std::ostringstream os;
+        os << where(s, keyLine(s, &sp.timeStep)) << ": key '" << scenarioKey(s, &sp.timeStep)
+           << "' = " << shortestText(sp.timeStep) << ": " << shortestText(sp.years) << " years in steps of "
+           << shortestText(sp.timeStep) << " years would take " << shortestText(std::ceil(sp.years / sp.timeStep))
+           << " steps, more than " << long(kMaxSpeleothemSteps) << "; use a step of at least "
+           << shortestText(sp.years / kMaxSpeleothemSteps) << " years, or 0 (the stable step)";
+        throw InputError(os.str());
+    }
     const ParamSection& source = sectionOf([](Scenario& p) { return &p.sources[0].box; });
     const ParamSection& sink = sectionOf([](Scenario& p) { return &p.sinks[0].box; });
     const auto checkInside = [&](const ParamSection& section, const VoxelBox& box, int line, std::size_t i) {

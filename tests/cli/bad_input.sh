@@ -266,6 +266,10 @@ expect_exit 0 "speleothems without pictures, frames at the default" -- "$CAVESIM
 expect_exit 2 "a speleothem step far too small" -- "$CAVESIM" run spstep.toml --out o16
 stderr_has "spstep.toml:24: key 'speleothems.time_step' = 1e-300: 5000 years in steps of 1e-300 years would take 5e+303 steps, more than 1000000; use a step of at least 0.005 years, or 0 (the stable step)"
 [ ! -e o16 ] && pass "no output for a speleothem step far too small" || fail "o16 was created"
+{ cat good.toml; printf '[speleothems]\nenabled = true\nyears = 5000\ntime_step = 0.005\n'; } > spstep_edge.toml
+expect_exit 0 "a speleothem step of exactly 10^6 steps" -- "$CAVESIM" validate spstep_edge.toml
+sed 's/^time_step = 0.005/time_step = 0.00499/' spstep_edge.toml > spstep_past.toml
+expect_exit 2 "a speleothem step just past 10^6 steps" -- "$CAVESIM" validate spstep_past.toml
 # Leading zeros in --seed are still the same number.
 expect_exit 0 "--seed with leading zeros" -- "$CAVESIM" run good.toml --seed 00000000000000000001 --out o12 -q
 grep -q "^seed = 1$" o12/scenario.toml && pass "seed 1 recorded" || fail "seed: $(grep seed o12/scenario.toml)"

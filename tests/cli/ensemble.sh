@@ -71,6 +71,10 @@ expect_exit 2 "--vary of the grid" -- "$CAVESIM" ensemble t.toml --members 2 --o
 # were "internal error" member failures; now the command refuses them before writing anything.
 expect_exit 2 "--vary drawing p_rate_channel above p_rate" -- "$CAVESIM" ensemble t.toml --members 2 --out e4 --vary stage2.p_rate_channel=0.4:0.6
 stderr_has "member 1: t.toml: key 'stage2.p_rate_channel' = 0.5693764497354293: must not exceed stage2.p_rate (0.5)"
+# A speleothem step asking for more than 10⁶ steps is refused for drawn members too.
+{ cat t.toml; printf '[speleothems]\nenabled = true\nyears = 5000\n'; } > tsp.toml
+expect_exit 2 "--vary drawing a speleothem step far too small" -- "$CAVESIM" ensemble tsp.toml --members 2 --out e4 --vary speleothems.time_step=1e-6:1e-5
+stderr_has "more than 1000000; use a step of at least 0.005 years"
 sed -e 's/^iterations = 40/iterations = 40\nsnapshots = [30]/' -e 's/^images = false/images = true/' t.toml > snap.toml
 expect_exit 2 "--vary of iterations below a snapshot" -- "$CAVESIM" ensemble snap.toml --members 3 --out e4 --vary stage2.iterations=10:50
 stderr_has "key 'stage2.snapshots' = 30: a snapshot is taken after one of the run's stage-2 iterations, 1 to"
