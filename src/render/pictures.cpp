@@ -408,11 +408,16 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
         return rim;
     };
     // The discs are blended at 12 % each, so a few dozen layers saturate a pixel: past a budget of
-    // 64 layers over the whole view (polygon area plus outline) an evenly spaced subset is drawn
-    // — every stride-th disc — so that the picture costs about the same for a million discs as
-    // for a few thousand, and says how many it shows.
+    // 64 layers over the whole view (polygon area within the view, plus outline) a family is drawn
+    // as an evenly spaced subset — every stride-th of its discs, a stride per family so that a
+    // sparse family beside a dense one keeps all its discs — and the picture costs about the same
+    // for a million discs as for a few thousand, and says how many it shows.
     const double view = double(f.vw) * double(f.vh);
-    double covered = 0;
+    const std::size_t nf = std::size_t(std::max(families, 1));
+    std::vector<double> covered(nf, 0.0);
+    const auto familyOf = [&](const FractureDisc& disc) {
+        return std::min(nf - 1, std::size_t(std::max(disc.family, 0)));
+    };
     for (const FractureDisc& disc : net.discs) {
         const auto rim = rimOf(disc);
         double twice = 0, outline = 0;
@@ -422,13 +427,16 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
             twice += a.first * b.second - b.first * a.second;
             outline += std::hypot(b.first - a.first, b.second - a.second);
         }
-        covered += std::min(0.5 * std::abs(twice), view) + outline;  // what lies in the view, at most
+        covered[familyOf(disc)] += std::min(0.5 * std::abs(twice), view) + outline;
     }
     const double budget = 64.0 * view;
-    const std::size_t stride = covered > budget ? std::size_t(std::ceil(covered / budget)) : 1;
+    std::vector<std::size_t> stride(nf, 1), index(nf, 0);
+    for (std::size_t fam = 0; fam < nf; ++fam)
+        if (covered[fam] > budget) stride[fam] = std::size_t(std::ceil(covered[fam] / budget));
     long drawn = 0;
-    for (std::size_t i = 0; i < net.discs.size(); i += stride) {
-        const FractureDisc& disc = net.discs[i];
+    for (const FractureDisc& disc : net.discs) {
+        const std::size_t fam = familyOf(disc);
+        if (index[fam]++ % stride[fam] != 0) continue;
         const auto rim = rimOf(disc);
         const Rgb c = zoneColour(disc.family);
         fillPolygon(img, rim, c, 0.12);
@@ -449,7 +457,7 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
     const long discs = long(net.discs.size());
     finishPanel(img, f, d,
                 "Fracture network (" + std::to_string(discs) + " discs" +
-                    (stride > 1 ? ", 1 in " + std::to_string(stride) + " drawn: " + std::to_string(drawn) : "") + ")",
+                    (drawn < discs ? ", " + std::to_string(drawn) + " drawn" : "") + ")",
                 "plan: disc outlines projected, coloured by family; cave shadow in grey");
     drawStandardLegend(img, f, {{LegendEntry::Kind::kSwatch, caveShadow, Marker::kCircle, "cave (plan shadow)"}});
     for (int fam = 0; fam < families; ++fam) {
