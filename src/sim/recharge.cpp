@@ -110,9 +110,9 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
     std::vector<SourceSpec> out;
     switch (r.kind) {
         case RechargeKind::kSinkholes: {
-            // Columns drawn from the whole area, each moved (if need be) to the nearest centre at least
-            // r columns inside it, so that every box lies whole in the area (and in the block);
-            // validateRecharge has checked that 2r + 1 columns fit.
+            // Columns drawn from the whole area; one within r of its edge is passed over, so that every
+            // box lies whole in the area (and in the block) and the centres are uniform over the
+            // columns that allow that (validateRecharge has checked that 2r + 1 columns fit).
             const int w = a.x1 - a.x0 + 1, h = a.y1 - a.y0 + 1;
             if (w < 2 * r.radius + 1 || h < 2 * r.radius + 1) {
                 fits = false;
@@ -123,8 +123,8 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
             std::vector<std::array<int, 2>> taken;
             for (std::size_t n = 0; n < cells.size() && int(taken.size()) < r.count; ++n) {
                 std::swap(cells[n], cells[n + uniformIndex(rng, cells.size() - n)]);  // Fisher-Yates, lazily
-                const int i = std::clamp(a.x0 + int(cells[n] % std::size_t(w)), a.x0 + r.radius, a.x1 - r.radius);
-                const int j = std::clamp(a.y0 + int(cells[n] / std::size_t(w)), a.y0 + r.radius, a.y1 - r.radius);
+                const int i = a.x0 + int(cells[n] % std::size_t(w)), j = a.y0 + int(cells[n] / std::size_t(w));
+                if (i < a.x0 + r.radius || i > a.x1 - r.radius || j < a.y0 + r.radius || j > a.y1 - r.radius) continue;
                 const bool apart = std::all_of(taken.begin(), taken.end(), [&](const std::array<int, 2>& t) {
                     return std::max(std::abs(t[0] - i), std::abs(t[1] - j)) >= 2 * r.radius + 1;
                 });
@@ -136,8 +136,7 @@ std::vector<SourceSpec> expand(const Scenario& s, const RechargeSpec& r, std::si
             }
             for (const auto& t : taken) {
                 SourceSpec src;
-                const int x0 = std::max(0, t[0] - r.radius), y0 = std::max(0, t[1] - r.radius);
-                const int x1 = std::min(s.size[0] - 1, t[0] + r.radius), y1 = std::min(s.size[1] - 1, t[1] + r.radius);
+                const int x0 = t[0] - r.radius, y0 = t[1] - r.radius, x1 = t[0] + r.radius, y1 = t[1] + r.radius;
                 // Under uneven land the box hangs from the lowest surface voxel of its columns, so
                 // every voxel of it is rock.
                 int top = s.size[2] - 1;

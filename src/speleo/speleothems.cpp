@@ -555,9 +555,14 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
     bool first = true;
     Unsettled pending;
     while (true) {
-        if (t >= o.years - 1e-9) settle(field.impl->grid, pending);  // the last surface, renormalised
+        // A surface that is shown (a frame) or ends the growth is renormalised first.
+        if (t >= o.years - 1e-9 || nextFrame < crossed) settle(field.impl->grid, pending);
         Analysis a = analyse(*field.impl->grid, o);
         const double vmax = maxSpeed(a);
+        if (!(vmax > 0) && pending.any) {  // nothing moves: settle, and look again at the settled surface
+            settle(field.impl->grid, pending);
+            continue;
+        }
         res.maxSpeed = std::max(res.maxSpeed, vmax);
         if (first && atFrame) atFrame(0.0, field, a.stalactites);
         first = false;
@@ -580,7 +585,7 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
         while (crossed < frameYears.size() && frameYears[crossed] <= t + 1e-9) ++crossed;
         reportProgress(progress, "speleothems", long(std::floor(t)), long(std::ceil(o.years)));
     }
-    settle(field.impl->grid, pending);  // growth that stopped early leaves no motion unsettled either
+    reportProgress(progress, "speleothems", long(std::ceil(o.years)), long(std::ceil(o.years)));
     res.years = t;
     return res;
 }

@@ -124,8 +124,8 @@ struct GrowthResult {
 /// Grows `options.years` years in stable steps (or `options.timeStep`), calling `atFrame` at
 /// year 0 and after the steps that cross each of `frameYears` (ascending).
 /// @throw InputError-free: options are validated by the registry; InternalError on a bad field
-/// `progress` ("speleothems", whole years grown, years asked) is called after every step: a safe
-/// point where it may throw `Cancelled`.
+/// `progress` ("speleothems", whole years grown, years asked) is called after every step and once
+/// at the end: a safe point where it may throw `Cancelled`.
 GrowthResult grow(DecorationField& field, const SpeleothemOptions& options, const std::vector<double>& frameYears = {},
                   const GrowthCallback& atFrame = {}, const ProgressFn& progress = {});
 
