@@ -24,22 +24,34 @@ inline std::string withThousands(long v) {
     return s;
 }
 
-/// `s` with every control byte (below 0x20, and 0x7f) written as \xNN, for messages that quote
-/// what a file holds: a NUL in a quoted value once cut the message short.
-inline std::string printable(const std::string& s) {
+/// `v` with backslashes, double quotes and control bytes escaped as TOML writes them (\\, \", \n,
+/// \t, \u00NN), for messages that show what a file holds: they stay on one line, and a NUL no
+/// longer cuts them short.
+inline std::string escaped(const std::string& v) {
     std::string out;
-    for (const char c : s) {
-        const auto u = static_cast<unsigned char>(c);
-        if (u < 0x20 || u == 0x7f) {
+    for (unsigned char c : v) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += char(c);
+        } else if (c == '\n') {
+            out += "\\n";
+        } else if (c == '\t') {
+            out += "\\t";
+        } else if (c < 0x20 || c == 0x7f) {
             static const char* const kHex = "0123456789abcdef";
-            out += "\\x";
-            out += kHex[u >> 4];
-            out += kHex[u & 15];
+            out += "\\u00";
+            out += kHex[c >> 4];
+            out += kHex[c & 15];
         } else {
-            out += c;
+            out += char(c);
         }
     }
     return out;
+}
+
+/// A string value as it would be written in TOML: in double quotes, escaped.
+inline std::string quoted(const std::string& v) {
+    return '"' + escaped(v) + '"';
 }
 
 }  // namespace cavesim

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cstring>
 #include <cstdint>
 #include <functional>
@@ -153,8 +154,8 @@ private:
 /// like its value, so the entries sit in 65 buckets by the highest bit in which their key differs
 /// from the last popped key. A pop takes bucket 0 (keys equal to the last) or else empties the
 /// lowest non-empty bucket into lower ones around its smallest key; each entry moves at most 64
-/// times and mostly far fewer, and no move touches more than one bucket's memory — unlike a
-/// binary heap of the whole front, whose sift-down walks a path of cache misses at every pop.
+/// times and mostly far fewer, each move an append to a bucket's end — unlike a binary heap of the
+/// whole front, whose sift-down walks a path of cache misses at every pop.
 /// Equal distances leave in an order other than by node, which changes no distance (Dijkstra's
 /// distances do not depend on the order of ties).
 struct RadixHeap {
@@ -184,6 +185,7 @@ struct RadixHeap {
     }
     void push(double d, NodeId v) {
         const std::uint64_t k = keyOf(d);
+        assert(k >= last && "RadixHeap: a push below the last pop");  // Dijkstra's arcs add ≥ 0
         bucket[slot(k)].push_back({k, v});
         ++count;
     }

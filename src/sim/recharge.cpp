@@ -15,7 +15,6 @@
 namespace cavesim {
 namespace {
 
-constexpr std::size_t kMaxSources = 256;
 
 /// "file:line: key 'k' = value: allowed".
 [[noreturn]] void fail(const Scenario& s, int line, const void* field, const std::string& value,

@@ -13,16 +13,22 @@
 /// entry, seeded from the scenario seed and the entry's index; the run's `Rng` is not touched.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "sim/scenario.h"
 
 namespace cavesim {
 
+/// The most sources a run may have, all kinds together (`[[source]]`, recharge inputs, a site's
+/// sinkholes): stage 1 marches one zone per source.
+constexpr std::size_t kMaxSources = 256;
+
 /// The sources of every `[[recharge]]` entry of `scenario`, entry by entry, each with the entry's
 /// line (docs/geology.md, "Recharge"):
 /// - sinkholes: `count` columns of `area` drawn without replacement (a seeded shuffle), each at
-///   least 2·radius + 1 columns (Chebyshev) from the ones taken before; each a box of
+///   least radius columns inside the area (others are passed over) and at least 2·radius + 1
+///   columns (Chebyshev) from the ones taken before; each a box of
 ///   (2·radius + 1)² columns and radius + 1 layers hanging from the lowest land-surface voxel of
 ///   those columns (the top face without a DEM), of `pressure`;
 /// - diffuse: `area` cut into cells of `spacing` columns (the last ones shorter); one one-voxel

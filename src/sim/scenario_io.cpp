@@ -27,28 +27,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// A string value as it would be written in TOML: quotes and control characters escaped, so an
-/// error message stays on one line and shows what the file holds.
-std::string quoted(const std::string& v) {
-    std::string out = "\"";
-    for (unsigned char c : v) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += char(c);
-        } else if (c == '\n') {
-            out += "\\n";
-        } else if (c == '\t') {
-            out += "\\t";
-        } else if (c < 0x20 || c == 0x7f) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            out += buf;
-        } else {
-            out += char(c);
-        }
-    }
-    return out + '"';
-}
 
 void describeInto(const toml::node& n, std::string& out) {
     if (n.is_string()) {

@@ -180,10 +180,10 @@ std::vector<SitePoint> readPoints(const std::string& what, const std::string& pa
             for (const auto& c : cols)
                 if (c != "x" && c != "y" && c != "z" && c != "name" && c != "pressure")
                     throw InputError(
-                        what + ":" + std::to_string(lineNo) + ": column '" + printable(c) +
+                        what + ":" + std::to_string(lineNo) + ": column '" + escaped(c) +
                         "' is not one of x, y, z, name, pressure (the header must name x,y[,z],name[,pressure])");
             if (has("x") != 1 || has("y") != 1 || has("name") != 1 || has("z") > 1 || has("pressure") > 1)
-                throw InputError(what + ":" + std::to_string(lineNo) + ": header '" + printable(t) +
+                throw InputError(what + ":" + std::to_string(lineNo) + ": header '" + escaped(t) +
                                  "' must name x, y and name once each, and z and pressure at most once");
             continue;
         }
@@ -201,7 +201,7 @@ std::vector<SitePoint> readPoints(const std::string& what, const std::string& pa
             if (f[c].empty() && (cols[c] == "z" || cols[c] == "pressure")) continue;  // optional per row
             double v = 0;
             if (!parseNumber(f[c], v))
-                throw InputError(what + ":" + std::to_string(lineNo) + ": " + cols[c] + " = '" + f[c] +
+                throw InputError(what + ":" + std::to_string(lineNo) + ": " + cols[c] + " = '" + escaped(f[c]) +
                                  "' is not a number");
             if (cols[c] == "x") p.x = v;
             if (cols[c] == "y") p.y = v;
@@ -328,9 +328,6 @@ bool hasSiteFiles(const Scenario& s) {
            !s.site.baseOfLimestone.empty() || !s.site.waterTable.empty() || !s.siteHorizons.empty();
 }
 
-/// The most sources a run may have (stage 1 marches one zone per source; sim/recharge.cpp).
-constexpr std::size_t kMaxSiteSources = 256;
-
 void loadSite(Scenario& s) {
     if (!hasSiteFiles(s)) return;
     // Paths relative to the scenario file's folder, made absolute for the effective scenario.
@@ -397,12 +394,12 @@ void loadSite(Scenario& s) {
                 for (int i = 0; i < nx; ++i)
                     z[std::size_t(i) + std::size_t(nx) * std::size_t(j)] = idw(pts, colX(i), colY(j));
         }
+        // Interpolation rounds: a surface given exactly on the block's top or bottom may come out a
+        // little beyond it (a few ulps), and within 10⁻⁹ of the elevations (micrometres) reads as on it.
+        const double slack = 1e-9 * std::max({1.0, std::abs(b.lo[2]), std::abs(b.hi[2])});
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
                 double& v = z[std::size_t(i) + std::size_t(nx) * std::size_t(j)];
-                // Interpolation rounds: a surface given exactly on the block's top or bottom may come
-                // out a few ulps beyond it, and reads as on it.
-                const double slack = 1e-9 * std::max({1.0, std::abs(b.lo[2]), std::abs(b.hi[2])});
                 if (v > b.hi[2] && v <= b.hi[2] + slack) v = b.hi[2];
                 if (v < b.lo[2] && v >= b.lo[2] - slack) v = b.lo[2];
                 if (!(v >= b.lo[2] && v <= b.hi[2]))
@@ -427,7 +424,7 @@ void loadSite(Scenario& s) {
 
     // Sinkholes and springs: one voxel each.
     auto place = [&](const std::string& what, const SitePoint& p, const char* kind) {
-        const std::string at = what + ":" + std::to_string(p.line) + ": " + kind + " '" + p.name +
+        const std::string at = what + ":" + std::to_string(p.line) + ": " + kind + " '" + escaped(p.name) +
                                "' at x = " + num(p.x) + ", y = " + num(p.y) +
                                (p.hasZ ? ", z = " + num(p.z) : std::string()) + " m";
         const int i = int(std::floor((p.x - b.lo[0]) / b.h)), j = int(std::floor((p.y - b.lo[1]) / b.h));
@@ -475,14 +472,14 @@ void loadSite(Scenario& s) {
             snk.box = place(what, p, "spring");
             for (std::size_t n = 0; n < data->sources.size(); ++n)
                 if (data->sources[n].box.lo == snk.box.lo)
-                    throw InputError(what + ":" + std::to_string(p.line) + ": spring '" + p.name +
-                                     "' falls on the voxel of sinkhole '" + data->sourceNames[n] +
+                    throw InputError(what + ":" + std::to_string(p.line) + ": spring '" + escaped(p.name) +
+                                     "' falls on the voxel of sinkhole '" + escaped(data->sourceNames[n]) +
                                      "': a voxel cannot be both source and sink");
             for (const SourceSpec& src : s.sources)
                 if (snk.box.lo[0] >= src.box.lo[0] && snk.box.lo[0] <= src.box.hi[0] &&
                     snk.box.lo[1] >= src.box.lo[1] && snk.box.lo[1] <= src.box.hi[1] &&
                     snk.box.lo[2] >= src.box.lo[2] && snk.box.lo[2] <= src.box.hi[2])
-                    throw InputError(what + ":" + std::to_string(p.line) + ": spring '" + p.name +
+                    throw InputError(what + ":" + std::to_string(p.line) + ": spring '" + escaped(p.name) +
                                      "' falls inside a [[source]] (line " + std::to_string(src.line) + ")");
             data->sinks.push_back(snk);
             data->sinkNames.push_back(p.name);
@@ -490,11 +487,11 @@ void loadSite(Scenario& s) {
     }
     // Stage 1 marches one zone per source: at most 256 in all, as with [[source]] and [[recharge]]
     // (which validateRecharge counts with these).
-    if (s.sources.size() + data->sources.size() > kMaxSiteSources)
+    if (s.sources.size() + data->sources.size() > kMaxSources)
         throw InputError(label(&s.site.sinkholes, s.site.sinkholes) + ": " + std::to_string(data->sources.size()) +
                          " sinkholes with the " + std::to_string(s.sources.size()) + " [[source]] entries make " +
                          std::to_string(s.sources.size() + data->sources.size()) + " sources; at most " +
-                         std::to_string(kMaxSiteSources) +
+                         std::to_string(kMaxSources) +
                          " are allowed (stage 1 marches one zone per source): merge or drop sinkholes");
     if (s.stage2.enabled && s.sinks.empty() && data->sinks.empty())
         throw InputError(s.path + ": stage 2 needs at least one sink, and the springs file has no rows");
