@@ -1,6 +1,7 @@
 #include "render/pictures.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -389,6 +390,12 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
     const double h = d.voxelSize;
     // Each disc's outline, projected (36 sides), and the area it covers in the picture.
     constexpr int kSides = 36;
+    std::array<double, kSides> cosA{}, sinA{};  // the outline's angles, once for every disc
+    for (int s = 0; s < kSides; ++s) {
+        const double a = 2.0 * kPi * s / kSides;
+        cosA[std::size_t(s)] = std::cos(a);
+        sinA[std::size_t(s)] = std::sin(a);
+    }
     const auto rimOf = [&](const FractureDisc& disc) {
         // Two unit vectors in the disc's plane.
         const Vec3d& n = disc.normal;
@@ -398,10 +405,9 @@ Image fracturesPicture(const Domain& d, const Grid3<std::uint8_t>& mask, const F
         const Vec3d e2 = cross(n, e1);
         std::vector<std::pair<double, double>> rim;
         for (int s = 0; s < kSides; ++s) {
-            const double a = 2.0 * kPi * s / kSides;
+            const double c = cosA[std::size_t(s)], sn = sinA[std::size_t(s)];
             Vec3d p{};
-            for (int ax = 0; ax < 3; ++ax)
-                p[ax] = (disc.centre[ax] + 0.5 + disc.radius * (std::cos(a) * e1[ax] + std::sin(a) * e2[ax])) * h;
+            for (int ax = 0; ax < 3; ++ax) p[ax] = (disc.centre[ax] + 0.5 + disc.radius * (c * e1[ax] + sn * e2[ax])) * h;
             const Camera::Projected q = f.camera.project(p);
             rim.emplace_back(q.x, q.y);
         }

@@ -249,6 +249,13 @@ const std::array<Slot, 26>& slots() {
 
 namespace {
 
+/// Whether any voxel of a tile mask is set.
+inline bool anyBit(const TileMask& mask) {
+    std::uint8_t any = 0;
+    for (std::uint8_t b : mask) any |= b;
+    return any != 0;
+}
+
 /// Sets or clears the flowing bit of the tile-local voxel (li, lj, lk) from its water.
 inline void setFlowing(TileMask& mask, int li, int lj, int lk, double water) {
     std::uint8_t& row = mask[std::size_t(lj + 8 * lk)];
@@ -548,11 +555,7 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
         // senders (a sender always works on its own tile, which marks it changed). A tile that holds
         // such water is scanned again although it did not change: its voxels had no lower neighbour
         // with room, and a fall of pressure around them may have made one.
-        if (!st.waterChanged[c.slot]) {
-            std::uint8_t any = 0;
-            for (std::uint8_t b : st.flowingMask[c.slot]) any |= b;
-            if (!any) return;
-        }
+        if (!st.waterChanged[c.slot] && !anyBit(st.flowingMask[c.slot])) return;
         st.waterChanged[c.slot] = 0;
         TileMask& senders = st.senderMask[c.slot];
         // Only senders have a norm and a scale: the last ones go back to rest, then the voxels
@@ -592,8 +595,7 @@ void computeOffers(const Domain& dom, const Grid3<double>& P, TransportWeight we
     const std::size_t nSlots = st.activeTiles.size();
     // Tiles with a sender: a tile none of whose 27 neighbours (itself included) has one rests.
     std::vector<std::uint8_t> sends(nSlots, 0);
-    for (std::size_t sl = 0; sl < nSlots; ++sl)
-        for (std::uint8_t b : st.senderMask[sl]) sends[sl] |= b;
+    for (std::size_t sl = 0; sl < nSlots; ++sl) sends[sl] = anyBit(st.senderMask[sl]) ? 1 : 0;
     tbb::parallel_for(std::size_t(0), nSlots, [&](std::size_t sl) {
         const auto& nb = st.neighbourBase[sl];
         if (std::none_of(nb.begin(), nb.end(),

@@ -331,7 +331,7 @@ using MaskTree = FloatGrid::TreeType::ValueConverter<openvdb::ValueMask>::Type;
 struct Unsettled {
     double voxels = 0;          ///< the fastest point's motion since, in voxels
     MaskTree reach, reachPlus;  ///< within kTrackReach − 1 voxels of what moved, and one voxel more
-    bool any = false;
+    bool any() const { return !reach.empty(); }
 };
 
 /// The band is renormalised once the fastest point has moved this many voxels since the last time.
@@ -344,7 +344,7 @@ constexpr double kSettleVoxels = 0.25;
 /// Dilates the band by one voxel (faces) within the pending reach, renormalises it there (three
 /// TVD-RK1 iterations, `LevelSetTracker`) and trims it; then nothing is pending.
 void settle(FloatGrid::Ptr& grid, Unsettled& u) {
-    if (!u.any) return;
+    if (!u.any()) return;
     MaskTree grow(u.reach), region(u.reachPlus);
     grow.topologyIntersection(grid->tree());
     openvdb::tools::dilateActiveValues(grow, 1, openvdb::tools::NN_FACE, openvdb::tools::IGNORE_TILES);
@@ -358,7 +358,6 @@ void settle(FloatGrid::Ptr& grid, Unsettled& u) {
     u.voxels = 0;
     u.reach.clear();
     u.reachPlus.clear();
-    u.any = false;
 }
 
 /// Advects the level set by the analysis' normal speeds (the largest `vmax`, `maxSpeed`) for
@@ -393,7 +392,6 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years, 
     openvdb::tools::dilateActiveValues(reachPlus, 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
     pending.reach.topologyUnion(reach);
     pending.reachPlus.topologyUnion(reachPlus);
-    pending.any = true;
     const auto* map = grid->transform().constMap<openvdb::math::UniformScaleMap>().get();
     CAVESIM_CHECK(map != nullptr, "the decoration level set needs a uniform scale transform");
     const float h = float(grid->voxelSize()[0]);
@@ -426,7 +424,6 @@ void advect(FloatGrid::Ptr& grid, const Analysis& a, double vmax, double years, 
         if (time0 < time1) {
             pending.reach.topologyUnion(reach);
             pending.reachPlus.topologyUnion(reachPlus);
-            pending.any = true;
         }
     }
 }
@@ -559,7 +556,7 @@ GrowthResult grow(DecorationField& field, const SpeleothemOptions& o, const std:
         if (t >= o.years - 1e-9 || nextFrame < crossed) settle(field.impl->grid, pending);
         Analysis a = analyse(*field.impl->grid, o);
         const double vmax = maxSpeed(a);
-        if (!(vmax > 0) && pending.any) {  // nothing moves: settle, and look again at the settled surface
+        if (!(vmax > 0) && pending.any()) {  // nothing moves: settle, and look again at the settled surface
             settle(field.impl->grid, pending);
             continue;
         }
